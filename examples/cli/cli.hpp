@@ -1,0 +1,44 @@
+// Shared pieces of the restitch command-line tool: exit codes, the progress
+// bar, JSON output and the subcommand registry.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <functional>
+#include <string>
+
+#include "restitch/progress.hpp"
+#include "restitch/status.hpp"
+
+namespace restitch::cli {
+
+/// Exit codes, documented in `restitch --help` and the README.
+enum ExitCode : int {
+  exit_ok = 0,
+  exit_usage = 2,       ///< bad command line
+  exit_input = 3,       ///< the input cannot be read (missing, not glTF, corrupt)
+  exit_model = 4,       ///< the model is readable but unusable (empty, NaN, unsupported content)
+  exit_request = 5,     ///< the request is refused (out of range, too many labels)
+  exit_output = 6,      ///< the output cannot be written
+  exit_internal = 70,   ///< a bug
+};
+
+/// Maps a library Status to an exit code (input side unless `writing`).
+int exit_code_for(const Status& s, bool writing = false);
+
+/// Prints "restitch: <message>" on stderr and returns the exit code.
+int fail(const Status& s, bool writing = false);
+
+/// A progress bar on stderr when it is a terminal, silent otherwise.
+Progress terminal_progress();
+
+/// Writes `j` to FILE, or to stdout for "-" (temporary file + rename for files).
+Status write_json(const nlohmann::json& j, const std::string& where);
+
+/// Each subcommand registers itself: it adds a CLI11 subcommand and sets a
+/// callback that stores its exit code in `*exit_code`.
+using Registrar = std::function<void(CLI::App& app, int* exit_code)>;
+void register_info(CLI::App& app, int* exit_code);
+void register_sample(CLI::App& app, int* exit_code);
+
+}  // namespace restitch::cli
