@@ -40,5 +40,6 @@ Status write_json(const nlohmann::json& j, const std::string& where);
 using Registrar = std::function<void(CLI::App& app, int* exit_code)>;
 void register_info(CLI::App& app, int* exit_code);
 void register_sample(CLI::App& app, int* exit_code);
+void register_convert(CLI::App& app, int* exit_code);
 
 }  // namespace restitch::cli

@@ -52,3 +52,24 @@ void register_info(CLI::App& app, int* exit_code) {
 }
 
 }  // namespace restitch::cli
+
+namespace restitch::cli {
+
+void register_convert(CLI::App& app, int* exit_code) {
+  struct Args { std::string input, output; };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand("convert", "Read a glTF model and write it back as restitch writes (world space, one mesh; .glb or .gltf by extension)");
+  cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
+  cmd->add_option("-o,--output", args->output, "output model (.glb or .gltf)")->required();
+  cmd->callback([args, exit_code] {
+    GltfLoadReport report;
+    Result<Mesh> mesh = load_gltf(args->input, &report);
+    if (!mesh) { *exit_code = fail(mesh.status()); return; }
+    for (const std::string& w : report.warnings) std::fprintf(stderr, "restitch: warning: %s\n", w.c_str());
+    if (Status s = save_gltf(*mesh, args->output); !s) { *exit_code = fail(s, true); return; }
+    std::printf("wrote %s: %zu vertices, %zu triangles\n", args->output.c_str(), mesh->vertex_count(), mesh->triangle_count());
+    *exit_code = exit_ok;
+  });
+}
+
+}  // namespace restitch::cli

@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
   int exit_code = exit_ok;
   register_info(app, &exit_code);
   register_sample(app, &exit_code);
+  register_convert(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs what restitch needs on Debian 12, only what is missing.
+#   scripts/install-deps.sh          everything (native build, Emscripten, Chromium, npm packages)
+#   scripts/install-deps.sh --native only what the native library and CLI need
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+native=(cmake make g++ libeigen3-dev libnanoflann-dev libtinygltf-dev nlohmann-json3-dev catch2 libcli11-dev)
+web=(emscripten chromium nodejs npm)
+want=("${native[@]}")
+[ "${1:-}" = "--native" ] || want+=("${web[@]}")
+
+missing=()
+for p in "${want[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+# node and npm may come from outside Debian's packages on some images: accept them if present.
+if command -v node >/dev/null && command -v npm >/dev/null; then
+  missing=($(printf '%s\n' "${missing[@]}" | grep -vx -e nodejs -e npm || true))
+fi
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "restitch: installing ${missing[*]}"
+  sudo_cmd=""
+  [ "$(id -u)" = 0 ] || sudo_cmd="sudo"
+  $sudo_cmd apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+if [ "${1:-}" != "--native" ] && [ ! -d "$root/demo_web/node_modules/playwright-core" -o ! -d "$root/demo_web/node_modules/gltf-validator" ]; then
+  (cd "$root/demo_web" && npm ci --no-audit --no-fund --loglevel=error)
+fi

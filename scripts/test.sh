@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Runs every restitch test on a fresh Debian 12 machine (installs what is missing):
+#   1. native build, all tests (unit, command line + glTF-Validator, install consumer)
+#   2. the same tests under AddressSanitizer + UndefinedBehaviorSanitizer
+#   3. the Emscripten build of the tests, run under node
+#   4. the web demo's node and browser tests (when the demo is built)
+# Ends with a line "N passed, N failed" over all stages; exits non-zero on any failure.
+set -uo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+"$root/scripts/install-deps.sh" || { echo "restitch: installing dependencies failed"; exit 1; }
+export NODE_PATH=/usr/share/nodejs
+jobs="${RESTITCH_JOBS:-2}"
+passed=0; failed=0; broken=0
+
+# Runs ctest in $1 and adds its counts to the totals.
+run_ctest() {
+  local dir="$1"; shift
+  local log="$dir/ctest.log"
+  ctest --test-dir "$dir" --output-on-failure -j "$jobs" "$@" 2>&1 | tee "$log"
+  local line
+  line=$(grep -E "tests passed, [0-9]+ tests failed out of [0-9]+" "$log" | tail -1)
+  if [ -z "$line" ]; then broken=$((broken + 1)); return; fi
+  local f t
+  f=$(echo "$line" | sed -E 's/.* ([0-9]+) tests failed out of ([0-9]+).*/\1/')
+  t=$(echo "$line" | sed -E 's/.* ([0-9]+) tests failed out of ([0-9]+).*/\2/')
+  passed=$((passed + t - f)); failed=$((failed + f))
+}
+stage() { echo; echo "=== restitch: $* ==="; }
+build() {  # build DIR [cmake args...]
+  local dir="$1"; shift
+  cmake -S "$root" -B "$dir" "$@" >/dev/null && cmake --build "$dir" -j "$jobs" || { broken=$((broken + 1)); return 1; }
+}
+
+stage "native build and tests"
+build build/native -DCMAKE_BUILD_TYPE=Release && run_ctest build/native
+
+stage "AddressSanitizer + UndefinedBehaviorSanitizer"
+build build/sanitize -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DRESTITCH_SANITIZE=ON \
+  -DRESTITCH_BUILD_BENCH=OFF -DRESTITCH_PCL_ORACLE=OFF && run_ctest build/sanitize -E install_consumer
+
+stage "WebAssembly (Emscripten) build of the tests, under node"
+if build build/wasm -DCMAKE_TOOLCHAIN_FILE=/usr/share/emscripten/cmake/Modules/Platform/Emscripten.cmake \
+    -DCMAKE_BUILD_TYPE=Release -DRESTITCH_BUILD_EXAMPLES=OFF -DRESTITCH_BUILD_BENCH=OFF \
+    "-DCMAKE_CROSSCOMPILING_EMULATOR=/usr/bin/node;--no-experimental-fetch"; then
+  run_ctest build/wasm
+fi
+
+if [ -f "$root/demo_web/tests/run.sh" ]; then
+  stage "web demo: node and browser tests"
+  log=build/web-tests.log
+  bash "$root/demo_web/tests/run.sh" 2>&1 | tee "$log"
+  line=$(grep -E "^[0-9]+ passed, [0-9]+ failed" "$log" | tail -1)
+  if [ -z "$line" ]; then broken=$((broken + 1)); else
+    passed=$((passed + $(echo "$line" | cut -d' ' -f1))); failed=$((failed + $(echo "$line" | cut -d' ' -f3 | tr -d ,)))
+  fi
+fi
+
+echo
+[ "$broken" -eq 0 ] || echo "restitch: $broken stage(s) did not build or run"
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ] && [ "$broken" -eq 0 ]
