@@ -1,0 +1,141 @@
+// restitch/descriptor/xyzn.hpp - the text formats of `restitch describe`:
+// points with normals in, descriptors as CSV out.
+//
+// read_xyzn(path) reads an .xyzn file: one point per line, six numbers
+// `x y z nx ny nz` separated by spaces or tabs. Blank lines and lines whose
+// first non-blank character is '#' are skipped; a trailing '\r' (CRLF files)
+// is ignored. Numbers are parsed with strtof (C locale assumed), so `nan` and
+// `inf` are accepted (a NaN normal or position is meaningful to the
+// descriptors: see shot.hpp, fpfh.hpp). Any other line is a parse_error whose
+// message names the file and the 1-based line number. A file with no point is
+// valid and gives an empty PointSet. Normals are read as given (not
+// normalised).
+//
+// write_descriptor_csv(path, D) writes one line per row of D, values
+// separated by ',' with "%.9g" (enough digits to round-trip any float), NaN
+// written as `nan` (and infinities as `inf`/`-inf`). It writes
+// `path + ".tmp"` first and renames it over `path`, so `path` is never left
+// half-written; on any error the temporary file is removed and an io_error
+// returned. (std::rename replaces an existing file on POSIX; on Windows it
+// fails if `path` exists.)
+//
+// Cost: linear in the file size; read_xyzn holds the numbers once in a
+// std::vector before copying them into the PointSet.
+#pragma once
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "restitch/descriptor/descriptor.hpp"
+#include "restitch/status.hpp"
+
+namespace restitch {
+
+namespace detail {
+
+/// Reads one line (without its '\n') from f into line; false at end of file.
+inline bool read_line(std::FILE* f, std::string& line) {
+  line.clear();
+  int c;
+  while ((c = std::fgetc(f)) != EOF) {
+    if (c == '\n') return true;
+    line.push_back(static_cast<char>(c));
+  }
+  return !line.empty();
+}
+
+}  // namespace detail
+
+/// Reads `x y z nx ny nz` lines into a PointSet; see the file comment.
+inline Result<PointSet> read_xyzn(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return error(StatusCode::io_error, "cannot open '" + path + "' for reading");
+  std::vector<float> values;
+  std::string line;
+  long line_number = 0;
+  while (detail::read_line(f, line)) {
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::size_t first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] == '#') continue;
+    const char* s = line.c_str();
+    float v[6];
+    int count = 0;
+    bool bad = false;
+    for (;;) {
+      while (*s == ' ' || *s == '\t') ++s;
+      if (*s == '\0') break;
+      if (count == 6) {
+        bad = true;
+        break;
+      }
+      char* end = nullptr;
+      const float x = std::strtof(s, &end);
+      if (end == s || (*end != '\0' && *end != ' ' && *end != '\t')) {
+        bad = true;
+        break;
+      }
+      v[count++] = x;
+      s = end;
+    }
+    if (bad || count != 6) {
+      std::fclose(f);
+      return error(StatusCode::parse_error, path + ":" + std::to_string(line_number) +
+                                                ": expected 6 numbers 'x y z nx ny nz', got '" + line + "'");
+    }
+    values.insert(values.end(), v, v + 6);
+  }
+  const bool read_failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (read_failed) return error(StatusCode::io_error, "error while reading '" + path + "'");
+
+  PointSet ps;
+  const Eigen::Index n = static_cast<Eigen::Index>(values.size() / 6);
+  ps.points.resize(n, 3);
+  ps.normals.resize(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (int d = 0; d < 3; ++d) {
+      ps.points(i, d) = values[static_cast<std::size_t>(6 * i + d)];
+      ps.normals(i, d) = values[static_cast<std::size_t>(6 * i + 3 + d)];
+    }
+  }
+  return ps;
+}
+
+/// Writes D as CSV through a temporary file; see the file comment.
+inline Status write_descriptor_csv(const std::string& path, const DescriptorMatrix& D) {
+  const std::string tmp = path + ".tmp";
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) return error(StatusCode::io_error, "cannot open '" + tmp + "' for writing");
+  bool ok = true;
+  char buf[32];
+  for (Eigen::Index i = 0; i < D.rows() && ok; ++i) {
+    for (Eigen::Index j = 0; j < D.cols() && ok; ++j) {
+      const float x = D(i, j);
+      const char* text = buf;
+      if (std::isnan(x)) {
+        text = "nan";
+      } else {
+        std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(x));
+      }
+      if (j > 0 && std::fputc(',', f) == EOF) ok = false;
+      if (ok && std::fputs(text, f) == EOF) ok = false;
+    }
+    if (ok && std::fputc('\n', f) == EOF) ok = false;
+  }
+  if (std::fclose(f) != 0) ok = false;
+  if (!ok) {
+    std::remove(tmp.c_str());
+    return error(StatusCode::io_error, "error while writing '" + tmp + "'");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    return error(StatusCode::io_error, "cannot rename '" + tmp + "' to '" + path + "'");
+  }
+  return Status();
+}
+
+}  // namespace restitch
