@@ -1,0 +1,351 @@
+// restitch/solver/alpha_expansion.hpp - the default solver policy:
+// alpha-expansion (Boykov, Veksler, Zabih, PAMI 2001) over a max-flow back end.
+//
+// Satisfies the solver policy contract of restitch/solver/mrf.hpp:
+//
+//   restitch::AlphaExpansion<> solver;            // BkMaxFlow<double> inside
+//   restitch::SolveReport report;
+//   std::vector<int> labels(problem.node_count(), 0);  // initial labelling
+//   restitch::Status s = solver.solve(problem, labels, report, progress);
+//
+// The algorithm. Labels are visited in the order 0, 1, ..., M-1, again and
+// again. For label alpha, every node either keeps its label or switches to
+// alpha (nodes already at alpha stay). That binary problem is built with the
+// Kolmogorov-Zabih construction: for an edge whose two nodes are both free to
+// move, with current labels (a, b),
+//   A = E(a, b), B = E(a, alpha), C = E(alpha, b), D = E(alpha, alpha),
+// the term is A + (C - A) x_i + (D - C) x_j + (B + C - A - D)(1 - x_i) x_j,
+// an edge of capacity B + C - A - D >= 0 plus terminal capacities. The
+// minimum cut (max-flow back end; source side = takes alpha, see
+// in_source_segment: a node that could go either way keeps its label) gives
+// the best expansion move. The move is applied only if the TRUE energy of
+// the new labelling, evaluated term by term, is lower (strictly, by more than
+// 1e-12 of the magnitude of the terms the move touches, so rounding never
+// counts as progress); so the energy never rises, whatever the terms. The
+// solver stops when M expansions in a row (one full cycle over the labels,
+// starting anywhere) have not lowered the energy: the result is then a local
+// minimum with respect to every expansion move. For metric pairwise terms it
+// is within 2c of the global minimum (BVZ Theorem 6.1; c = ratio of the
+// largest to the smallest non-zero pairwise value), and it is the global
+// minimum for two labels with a submodular term.
+//
+// Non-metric terms. When B + C < A + D (the term violates the condition of
+// check_metric(), restitch/solver/mrf.hpp) the binary term is not submodular
+// and cannot be cut exactly. It is truncated as in Rother et al., "Digital
+// Tapestry", CVPR 2005: D is lowered to B + C - A (the edge gets capacity 0),
+// report.non_metric_detected is set (only when the violation exceeds 1e-12 of
+// the four magnitudes), and the acceptance test above still rejects any move
+// that would raise the true energy. The result is then no longer guaranteed
+// to be a local minimum for every expansion move.
+//
+// Magnitudes. Terms must be finite (solve() returns invalid_argument for NaN
+// or infinity, or for sums beyond the double range). Forbidden assignments
+// are large finite constants such as 1e9. Capacities are doubles: a node's
+// terminal capacity sums the differences of its incident terms, so next to
+// forbidden terms of 1e9 on 26 edges, small terms are still resolved to about
+// 26 * 1e9 * 2^-53 = 3e-6 in the cut. Supported: |term| <= 1e12 (small terms
+// resolved to ~3e-3 then). Capacities are clamped to 1e15 when the graph is
+// built; whether a move is taken is decided by the TRUE energy change,
+// summed with compensation, so neither clamping nor rounding in the graph can
+// make the energy rise; they can only make a proposed move less good. The
+// back end's capacity type must be floating point.
+//
+// Determinism: labels, edges and arcs are visited in a fixed order, no
+// threads, no randomness: the same input gives the same labels bit for bit.
+// Memory: O(N + E) scratch allocated once per solve() (plus the back end's
+// graph, reused across moves through reset()); no allocation inside the label
+// loop. Cost per expansion: N unary and about 3 E pairwise calls, one
+// max-flow, then pairwise calls for the edges of nodes that moved.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "restitch/progress.hpp"
+#include "restitch/solver/max_flow_bk.hpp"
+#include "restitch/solver/mrf.hpp"
+#include "restitch/status.hpp"
+
+namespace restitch {
+
+namespace detail {
+
+/// Relative threshold a move's energy change must beat to be accepted.
+inline constexpr double move_slack = 1e-12;
+/// Capacities are clamped to this when an expansion graph is built.
+inline constexpr double max_expansion_capacity = 1e15;
+
+/// The state of one alpha-expansion run: current labels and their cached
+/// terms, plus scratch reused by every move.
+template <class Problem, class MaxFlow>
+class ExpansionRun {
+ public:
+  ExpansionRun(const Problem& problem, std::vector<int>& labels) : p_(problem), labels_(labels) {}
+
+  /// Validates the problem and the initial labels; caches the current terms.
+  Status start() {
+    n_ = p_.node_count();
+    m_ = p_.label_count();
+    e_ = p_.edge_count();
+    if (n_ < 0 || m_ < 0 || e_ < 0)
+      return error(StatusCode::invalid_argument, "the labelling problem reports a negative size");
+    if (n_ > 0 && m_ < 1) return error(StatusCode::invalid_argument, "the labelling problem has nodes but no labels");
+    if (labels_.empty() && n_ > 0) labels_.assign(static_cast<std::size_t>(n_), 0);
+    if (static_cast<long long>(labels_.size()) != n_)
+      return error(StatusCode::invalid_argument, "the initial labelling holds " + std::to_string(labels_.size()) +
+                                                     " labels for " + std::to_string(n_) + " nodes");
+    for (int i = 0; i < n_; ++i)
+      if (labels_[idx(i)] < 0 || labels_[idx(i)] >= m_)
+        return error(StatusCode::invalid_argument, "initial label " + std::to_string(labels_[idx(i)]) + " of node " +
+                                                       std::to_string(i) + " is outside [0, " + std::to_string(m_) +
+                                                       ")");
+    ends_.resize(idx(e_));
+    for (int e = 0; e < e_; ++e) {
+      ends_[idx(e)] = p_.edge(e);
+      const int i = ends_[idx(e)].first, j = ends_[idx(e)].second;
+      if (i < 0 || i >= n_ || j < 0 || j >= n_ || i == j)
+        return error(StatusCode::invalid_argument,
+                     "edge " + std::to_string(e) + " joins nodes " + std::to_string(i) + " and " + std::to_string(j) +
+                         "; an edge needs two different nodes in [0, " + std::to_string(n_) + ")");
+    }
+    cur_unary_.resize(idx(n_));
+    new_unary_.resize(idx(n_));
+    cur_pair_.resize(idx(e_));
+    CompensatedSum s;
+    for (int i = 0; i < n_; ++i) {
+      const double u = p_.unary(i, labels_[idx(i)]);
+      if (!std::isfinite(u)) return not_finite("unary term of node " + std::to_string(i));
+      cur_unary_[idx(i)] = u;
+      s.add(u);
+    }
+    for (int e = 0; e < e_; ++e) {
+      const double w = p_.pairwise(e, labels_[idx(ends_[idx(e)].first)], labels_[idx(ends_[idx(e)].second)]);
+      if (!std::isfinite(w)) return not_finite("pairwise term of edge " + std::to_string(e));
+      cur_pair_[idx(e)] = w;
+      s.add(w);
+    }
+    energy_ = s.value();
+    var_.resize(idx(n_));
+    moved_.resize(idx(n_));
+    diff_.reserve(idx(n_));
+    affected_.reserve(idx(e_));
+    graph_.reset(n_, e_);
+    return Status();
+  }
+
+  /// One expansion move for label alpha; `improved` says whether it was taken.
+  Status expand(int alpha, bool& improved) {
+    improved = false;
+    int nv = 0;
+    for (int i = 0; i < n_; ++i) var_[idx(i)] = labels_[idx(i)] == alpha ? -1 : nv++;
+    if (nv == 0) return Status();
+
+    graph_.reset(nv, e_);
+    graph_.add_node(nv);
+    diff_.assign(idx(nv), 0.0);  // cost(takes alpha) - cost(keeps its label), per graph node
+    for (int i = 0; i < n_; ++i) {
+      const int v = var_[idx(i)];
+      if (v < 0) continue;
+      const double u = p_.unary(i, alpha);
+      new_unary_[idx(i)] = u;
+      diff_[idx(v)] += u - cur_unary_[idx(i)];
+    }
+    for (int e = 0; e < e_; ++e) {
+      const int i = ends_[idx(e)].first, j = ends_[idx(e)].second;
+      const int vi = var_[idx(i)], vj = var_[idx(j)];
+      if (vi < 0 && vj < 0) continue;  // both at alpha: constant
+      const double A = cur_pair_[idx(e)];
+      double D = p_.pairwise(e, alpha, alpha);
+      if (vi < 0) {  // i already at alpha: A = E(alpha, b), a unary term on j
+        diff_[idx(vj)] += D - A;
+        continue;
+      }
+      if (vj < 0) {
+        diff_[idx(vi)] += D - A;
+        continue;
+      }
+      const double B = p_.pairwise(e, labels_[idx(i)], alpha);
+      const double C = p_.pairwise(e, alpha, labels_[idx(j)]);
+      double w = (B + C) - (A + D);
+      if (!std::isfinite(w)) return not_finite("pairwise term of edge " + std::to_string(e), alpha);
+      if (w < 0) {
+        if (-w > expansion_slack * (std::fabs(A) + std::fabs(B) + std::fabs(C) + std::fabs(D))) non_metric_ = true;
+        D += w;  // truncation: D' = B + C - A
+        w = 0;
+      }
+      diff_[idx(vi)] += C - A;
+      diff_[idx(vj)] += D - C;
+      if (w > 0) graph_.add_edge(vj, vi, capacity(w), Cap(0));  // cut when i keeps and j takes alpha
+    }
+    for (int i = 0; i < n_; ++i) {
+      const int v = var_[idx(i)];
+      if (v < 0) continue;
+      const double d = diff_[idx(v)];
+      if (!std::isfinite(d)) return not_finite("unary or pairwise term at node " + std::to_string(i), alpha);
+      if (d > 0)
+        graph_.add_tweights(v, Cap(0), capacity(d));
+      else if (d < 0)
+        graph_.add_tweights(v, capacity(-d), Cap(0));
+    }
+    graph_.max_flow();
+
+    // The proposed labelling and its true energy change.
+    CompensatedSum delta;
+    double scale = 0;
+    bool any = false;
+    for (int i = 0; i < n_; ++i) {
+      const int v = var_[idx(i)];
+      const bool moved = v >= 0 && graph_.in_source_segment(v);
+      moved_[idx(i)] = moved;
+      if (!moved) continue;
+      any = true;
+      delta.add(new_unary_[idx(i)] - cur_unary_[idx(i)]);
+      scale += std::fabs(new_unary_[idx(i)]) + std::fabs(cur_unary_[idx(i)]);
+    }
+    if (!any) return Status();
+    affected_.clear();
+    for (int e = 0; e < e_; ++e) {
+      const int i = ends_[idx(e)].first, j = ends_[idx(e)].second;
+      const bool mi = moved_[idx(i)], mj = moved_[idx(j)];
+      if (!mi && !mj) continue;
+      const double w = p_.pairwise(e, mi ? alpha : labels_[idx(i)], mj ? alpha : labels_[idx(j)]);
+      affected_.emplace_back(e, w);
+      delta.add(w - cur_pair_[idx(e)]);
+      scale += std::fabs(w) + std::fabs(cur_pair_[idx(e)]);
+    }
+    const double change = delta.value();
+    if (!(change < -move_slack * scale)) return Status();  // also rejects NaN
+
+    for (int i = 0; i < n_; ++i)
+      if (moved_[idx(i)]) {
+        labels_[idx(i)] = alpha;
+        cur_unary_[idx(i)] = new_unary_[idx(i)];
+      }
+    for (const auto& ew : affected_) cur_pair_[idx(ew.first)] = ew.second;
+    energy_ += change;
+    improved = true;
+    return Status();
+  }
+
+  double energy() const { return energy_; }
+  bool non_metric() const { return non_metric_; }
+  int nodes() const { return n_; }
+  int labels() const { return m_; }
+  int edges() const { return e_; }
+
+ private:
+  using Cap = typename MaxFlow::capacity_type;
+  static std::size_t idx(int i) { return static_cast<std::size_t>(i); }
+  static Cap capacity(double x) { return static_cast<Cap>(std::min(x, max_expansion_capacity)); }
+  static Status not_finite(const std::string& what, int alpha = -1) {
+    return error(StatusCode::invalid_argument,
+                 (alpha >= 0 ? "while expanding label " + std::to_string(alpha) + ", a " : std::string("the ")) + what +
+                     " is not finite (NaN, infinity or beyond the double range); use a large finite constant such as "
+                     "1e9 for forbidden assignments");
+  }
+
+  const Problem& p_;
+  std::vector<int>& labels_;
+  int n_ = 0, m_ = 0, e_ = 0;
+  double energy_ = 0;
+  bool non_metric_ = false;
+  std::vector<std::pair<int, int>> ends_;  // edge endpoints, cached
+  std::vector<double> cur_unary_, new_unary_, cur_pair_;
+  std::vector<int> var_;     // graph node of each problem node, -1 when at alpha
+  std::vector<char> moved_;  // node takes alpha in the proposed move
+  std::vector<double> diff_;
+  std::vector<std::pair<int, double>> affected_;  // edges of moved nodes and their new terms
+  MaxFlow graph_;
+};
+
+}  // namespace detail
+
+/// Alpha-expansion solver policy; see the top of this file.
+template <class MaxFlow = BkMaxFlow<double>>
+class AlphaExpansion {
+  static_assert(is_max_flow_v<MaxFlow>,
+                "AlphaExpansion<MaxFlow>: MaxFlow does not satisfy the max-flow back-end contract "
+                "(capacity_type, reset, add_node, add_tweights, add_edge, max_flow, in_source_segment; "
+                "see restitch/solver/max_flow_bk.hpp)");
+  static_assert(std::is_floating_point_v<typename MaxFlow::capacity_type>,
+                "AlphaExpansion<MaxFlow>: the back end's capacity_type must be floating point "
+                "(integer capacities would round the energy's terms)");
+
+ public:
+  /// Called after every accepted move with the labelling and its energy
+  /// (tracked by the solver); for tests and visualisation. Empty by default.
+  using MoveObserver = std::function<void(const std::vector<int>& labels, double energy)>;
+
+  /// At most this many passes over the labels (the solver usually stops far
+  /// earlier, when no expansion lowers the energy; report.converged then).
+  int max_cycles = 100;
+  MoveObserver on_move;
+
+  /// See the solver policy contract in restitch/solver/mrf.hpp. Progress is
+  /// reported after every expansion as stage "alpha-expansion" with fraction
+  /// 1 - 2^-(cycles done), which rises monotonically; a cancel leaves labels
+  /// at the best labelling so far and returns StatusCode::cancelled.
+  template <class Problem>
+  Status solve(const Problem& problem, std::vector<int>& labels, SolveReport& report,
+               const Progress& progress = Progress()) const {
+    static_assert(is_labeling_problem_v<Problem>,
+                  "AlphaExpansion::solve: the problem type does not satisfy the labelling problem contract "
+                  "(node_count, label_count, unary, edge_count, edge, pairwise; see restitch/solver/mrf.hpp)");
+    const auto t0 = std::chrono::steady_clock::now();
+    report = SolveReport();
+    detail::ExpansionRun<Problem, MaxFlow> run(problem, labels);
+    const auto finish = [&](Status s) {
+      report.non_metric_detected = run.non_metric();
+      if (static_cast<long long>(labels.size()) == problem.node_count() && s.code() != StatusCode::invalid_argument)
+        report.energy = energy(problem, labels);
+      report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      return s;
+    };
+
+    Status s = run.start();
+    report.nodes = run.nodes();
+    report.labels = run.labels();
+    report.edges = run.edges();
+    if (!s.ok()) return finish(s);
+    report.initial_energy = run.energy();
+    const int m = run.labels();
+    if (run.nodes() == 0 || m <= 1) {
+      report.converged = true;  // nothing can move
+      return finish(Status());
+    }
+
+    int failures_in_row = 0;
+    for (int cycle = 0; cycle < max_cycles && !report.converged; ++cycle) {
+      report.cycles = cycle + 1;
+      for (int alpha = 0; alpha < m; ++alpha) {
+        bool improved = false;
+        s = run.expand(alpha, improved);
+        if (!s.ok()) return finish(s);
+        ++report.expansions;
+        if (improved) {
+          ++report.moves_accepted;
+          failures_in_row = 0;
+          if (on_move) on_move(labels, run.energy());
+        } else if (++failures_in_row >= m) {
+          report.converged = true;
+          break;
+        }
+        const double done = cycle + (alpha + 1.0) / m;
+        if (!progress.report("alpha-expansion", 1.0 - std::pow(2.0, -done))) {
+          report.cycle_energies.push_back(run.energy());
+          return finish(error(StatusCode::cancelled, "alpha-expansion cancelled"));
+        }
+      }
+      report.cycle_energies.push_back(run.energy());
+    }
+    return finish(Status());
+  }
+};
+
+}  // namespace restitch
