@@ -1,0 +1,260 @@
+// restitch/energy/seam_energy.hpp - the labelling energy of method.md 2.3-2.4.
+//
+// CellDescriptors groups the analysis' feature descriptors by the grid cell
+// their feature lies in (canonical floor, clamped into the grid like the
+// stitcher) and measures the distance between two cells' descriptor sets:
+// the Hausdorff distance under the L2 descriptor distance (default), or the
+// mean of nearest distances, symmetrised (an option; not a metric, so the
+// solver's non-metric detection may fire). Distances between two cells are
+// computed once and cached for the life of the object, so repeated retargets
+// of one analysis (the live slider) only compute pairs they have not seen.
+//
+// SeamMrf is the labelling problem for one request, in the solver's problem
+// contract (restitch/solver/mrf.hpp):
+//   nodes   output cells, x = i + U_out (j + V_out k)
+//   labels  shifts d with d_a between 0 and k_a (either sign), k = grid steps
+//   unary   0 if x - d is inside the input grid, else `forbidden`; plus the
+//           anchored ends (restitch's addition): along every resized axis a,
+//           a cell on the low face of the output has a virtual neighbour
+//           outside whose label is d with its a-component set to 0, and a cell
+//           on the high face one whose a-component is k_a; that pairwise cost
+//           is added to the unary. (Setting only the a-component, rather than
+//           the whole label to 0 or k, keeps corners consistent: the top-left
+//           cell of a shelf grown in x and y must copy the input's top-left.)
+//   pairwise for neighbours x, x' (26- or 6-neighbourhood) with labels di, dj:
+//           D(x - di, x - dj) + D(x' - di, x' - dj), where D is the cell-set
+//           distance, 0 for two empty cells, `empty_mismatch` for one empty
+//           and one not; a cell outside the input grid counts as empty.
+// Constants: descriptor distances are at most 2 * r, r the largest descriptor
+// norm (2 for unit-norm SHOT); empty_mismatch = 1000 * 2r dominates any seam,
+// forbidden = 1000 * empty_mismatch dominates any sum of seams; both are
+// finite, as the solver needs, and far below its capacity limit (1e15).
+//
+// Cost: building the per-request tables is O(cells_in * label differences)
+// lookups; each new cell pair costs O(n_a * n_b * D) flops.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "restitch/analysis.hpp"
+#include "restitch/lattice/lattice.hpp"
+
+namespace restitch {
+
+enum class Neighbourhood { n26, n6 };
+enum class SetDistance { hausdorff, mean_nearest };
+
+/// Feature descriptors grouped by input cell, with cached set distances.
+class CellDescriptors {
+ public:
+  CellDescriptors() = default;
+
+  /// Groups the features of `analysis` by the cells of `grid` (model units).
+  CellDescriptors(const Analysis& analysis, const Lattice& grid, SetDistance kind)
+      : descriptors_(&analysis.descriptors), cells_(grid.cells), kind_(kind) {
+    const Eigen::Index n = analysis.features.points.rows();
+    members_.assign(std::size_t(cells_.prod()), {});
+    const Eigen::Matrix3d Ainv = grid.A.inverse();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (i >= analysis.descriptors.rows() || !analysis.descriptors.row(i).allFinite()) continue;
+      const Eigen::Vector3d p = analysis.normalization.to_model(analysis.features.points.row(i).cast<double>().transpose());
+      const Eigen::Vector3d c = Ainv * (p - grid.origin);
+      Eigen::Array3i cell;
+      for (int a = 0; a < 3; ++a) cell[a] = std::clamp(int(std::floor(c[a])), 0, cells_[a] - 1);
+      members_[std::size_t(linear(cell))].push_back(int(i));
+    }
+    double r = 0;
+    for (Eigen::Index i = 0; i < analysis.descriptors.rows(); ++i)
+      if (analysis.descriptors.row(i).allFinite()) r = std::max(r, double(analysis.descriptors.row(i).norm()));
+    max_distance_ = r > 0 ? 2 * r : 2.0;
+  }
+
+  const Eigen::Array3i& cells() const { return cells_; }
+  int linear(const Eigen::Array3i& c) const { return c[0] + cells_[0] * (c[1] + cells_[1] * c[2]); }
+  bool inside(const Eigen::Array3i& c) const { return (c >= 0).all() && (c < cells_).all(); }
+  bool empty(int cell) const { return members_[std::size_t(cell)].empty(); }
+  std::size_t features_in(int cell) const { return members_[std::size_t(cell)].size(); }
+  double max_distance() const { return max_distance_; }
+
+  /// Set distance between two non-empty input cells (cached).
+  double distance(int a, int b) {
+    if (a == b) return 0.0;
+    if (a > b) std::swap(a, b);
+    const std::uint64_t key = (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
+    auto it = cache_.find(key);
+    if (it != cache_.end()) return it->second;
+    const double d = compute(members_[std::size_t(a)], members_[std::size_t(b)]);
+    cache_.emplace(key, d);
+    return d;
+  }
+  std::size_t cached_pairs() const { return cache_.size(); }
+
+ private:
+  double compute(const std::vector<int>& A, const std::vector<int>& B) const {
+    const DescriptorMatrix& D = *descriptors_;
+    DescriptorMatrix X(A.size(), D.cols()), Y(B.size(), D.cols());
+    for (std::size_t i = 0; i < A.size(); ++i) X.row(Eigen::Index(i)) = D.row(A[i]);
+    for (std::size_t j = 0; j < B.size(); ++j) Y.row(Eigen::Index(j)) = D.row(B[j]);
+    Eigen::MatrixXf d2 = (-2.0f * X * Y.transpose()).eval();
+    d2.colwise() += X.rowwise().squaredNorm();
+    d2.rowwise() += Y.rowwise().squaredNorm().transpose();
+    d2 = d2.cwiseMax(0.0f);
+    const Eigen::VectorXf row_min = d2.rowwise().minCoeff().cwiseSqrt();
+    const Eigen::VectorXf col_min = d2.colwise().minCoeff().transpose().cwiseSqrt();
+    if (kind_ == SetDistance::hausdorff) return double(std::max(row_min.maxCoeff(), col_min.maxCoeff()));
+    return 0.5 * (double(row_min.mean()) + double(col_min.mean()));
+  }
+
+  const DescriptorMatrix* descriptors_ = nullptr;
+  Eigen::Array3i cells_ = Eigen::Array3i::Ones();
+  SetDistance kind_ = SetDistance::hausdorff;
+  std::vector<std::vector<int>> members_;
+  std::unordered_map<std::uint64_t, double> cache_;
+  double max_distance_ = 2.0;
+};
+
+/// The labelling problem of one retarget request (solver problem contract).
+class SeamMrf {
+ public:
+  /// `k`: grid steps per axis; `out_cells` = input cells + k.
+  SeamMrf(CellDescriptors& cells, const Eigen::Array3i& k, Neighbourhood nb) : in_(cells.cells()), k_(k) {
+    out_ = in_ + k_;
+    empty_mismatch_ = 1000.0 * cells.max_distance();
+    forbidden_ = 1000.0 * empty_mismatch_;
+    // Labels: every shift with d_a between 0 and k_a, x fastest.
+    for (int w = 0; w <= std::abs(k[2]); ++w)
+      for (int v = 0; v <= std::abs(k[1]); ++v)
+        for (int u = 0; u <= std::abs(k[0]); ++u)
+          labels_.push_back(Eigen::Array3i(sign(k[0]) * u, sign(k[1]) * v, sign(k[2]) * w));
+    // Distances between input cells a and a + delta, |delta_a| <= |k_a|, for every input cell.
+    span_ = (2 * k_.abs() + 1);
+    const int deltas = span_.prod();
+    const int n_in = in_.prod();
+    table_.assign(std::size_t(n_in) * deltas, 0.0);
+    for (int c = 0; c < n_in; ++c) {
+      const Eigen::Array3i a = unlinear(c, in_);
+      for (int t = 0; t < deltas; ++t) {
+        const Eigen::Array3i delta = unlinear(t, span_) - k_.abs();
+        const Eigen::Array3i b = a + delta;
+        table_[std::size_t(c) * deltas + t] = cell_distance(cells, a, b);
+      }
+    }
+    // Edges: half of the neighbourhood, so each pair once.
+    std::vector<Eigen::Array3i> offsets;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const Eigen::Array3i o(dx, dy, dz);
+          const int l1 = std::abs(dx) + std::abs(dy) + std::abs(dz);
+          if (l1 == 0 || (nb == Neighbourhood::n6 && l1 != 1)) continue;
+          // forward half: first non-zero component positive (z, then y, then x)
+          const int first = dz != 0 ? dz : (dy != 0 ? dy : dx);
+          if (first > 0) offsets.push_back(o);
+        }
+    const int n = out_.prod();
+    for (int x = 0; x < n; ++x) {
+      const Eigen::Array3i cx = unlinear(x, out_);
+      for (const Eigen::Array3i& o : offsets) {
+        const Eigen::Array3i cy = cx + o;
+        if ((cy >= 0).all() && (cy < out_).all()) edges_.push_back({x, linear(cy, out_)});
+      }
+    }
+    // Unary table, anchors included.
+    const int m = label_count();
+    unary_.assign(std::size_t(n) * m, 0.0);
+    for (int x = 0; x < n; ++x) {
+      const Eigen::Array3i cx = unlinear(x, out_);
+      for (int l = 0; l < m; ++l) {
+        const Eigen::Array3i src = cx - labels_[l];
+        double u = inside(src, in_) ? 0.0 : forbidden_;
+        for (int a = 0; a < 3; ++a) {
+          if (k_[a] == 0) continue;
+          for (int side = 0; side < 2; ++side) {
+            const bool on_face = side == 0 ? cx[a] == 0 : cx[a] == out_[a] - 1;
+            if (!on_face) continue;
+            Eigen::Array3i anchor = labels_[l];
+            anchor[a] = side == 0 ? 0 : k_[a];
+            Eigen::Array3i outside = cx;
+            outside[a] += side == 0 ? -1 : 1;
+            u += seam(cx, labels_[l], anchor) + seam(outside, labels_[l], anchor);
+          }
+        }
+        unary_[std::size_t(x) * m + l] = u;
+      }
+    }
+  }
+
+  // ---- the labelling-problem contract ----
+  int node_count() const { return out_.prod(); }
+  int label_count() const { return int(labels_.size()); }
+  double unary(int node, int label) const { return unary_[std::size_t(node) * labels_.size() + label]; }
+  int edge_count() const { return int(edges_.size()); }
+  std::pair<int, int> edge(int e) const { return edges_[std::size_t(e)]; }
+  double pairwise(int e, int li, int lj) const {
+    if (li == lj) return 0.0;
+    const auto [x, y] = edges_[std::size_t(e)];
+    return seam(unlinear(x, out_), labels_[li], labels_[lj]) + seam(unlinear(y, out_), labels_[li], labels_[lj]);
+  }
+
+  const Eigen::Array3i& out_cells() const { return out_; }
+  const std::vector<Eigen::Array3i>& labels() const { return labels_; }
+  /// Label index of shift d, -1 if d is not a label.
+  int label_of(const Eigen::Array3i& d) const {
+    for (int l = 0; l < label_count(); ++l)
+      if ((labels_[l] == d).all()) return l;
+    return -1;
+  }
+  double forbidden() const { return forbidden_; }
+
+  /// A starting labelling: the input's own layout stretched, i.e. each cell
+  /// copies the nearest end (label 0 in the low part, k in the high part).
+  std::vector<int> initial_labels() const {
+    std::vector<int> lab(static_cast<std::size_t>(node_count()));
+    for (int x = 0; x < node_count(); ++x) {
+      const Eigen::Array3i cx = unlinear(x, out_);
+      Eigen::Array3i d = Eigen::Array3i::Zero();
+      for (int a = 0; a < 3; ++a) d[a] = (2 * cx[a] >= out_[a]) ? k_[a] : 0;
+      lab[std::size_t(x)] = label_of(d);
+    }
+    return lab;
+  }
+
+  static int linear(const Eigen::Array3i& c, const Eigen::Array3i& dims) { return c[0] + dims[0] * (c[1] + dims[1] * c[2]); }
+  static Eigen::Array3i unlinear(int i, const Eigen::Array3i& dims) {
+    return Eigen::Array3i(i % dims[0], (i / dims[0]) % dims[1], i / (dims[0] * dims[1]));
+  }
+
+ private:
+  static int sign(int v) { return v < 0 ? -1 : 1; }
+  static bool inside(const Eigen::Array3i& c, const Eigen::Array3i& dims) { return (c >= 0).all() && (c < dims).all(); }
+
+  double cell_distance(CellDescriptors& cells, const Eigen::Array3i& a, const Eigen::Array3i& b) const {
+    const bool ia = inside(a, in_), ib = inside(b, in_);
+    const bool ea = !ia || cells.empty(linear(a, in_)), eb = !ib || cells.empty(linear(b, in_));
+    if (ea && eb) return 0.0;
+    if (ea != eb) return empty_mismatch_;
+    return cells.distance(linear(a, in_), linear(b, in_));
+  }
+  // D(x - di, x - dj), from the per-request table.
+  double seam(const Eigen::Array3i& x, const Eigen::Array3i& di, const Eigen::Array3i& dj) const {
+    const Eigen::Array3i a = x - di, b = x - dj;
+    const bool ia = inside(a, in_), ib = inside(b, in_);
+    if (ia) return table_[std::size_t(linear(a, in_)) * span_.prod() + linear(b - a + k_.abs(), span_)];
+    if (ib) return table_[std::size_t(linear(b, in_)) * span_.prod() + linear(a - b + k_.abs(), span_)];
+    return 0.0;  // both outside: both empty
+  }
+
+  Eigen::Array3i in_, out_, k_, span_;
+  double empty_mismatch_ = 2000, forbidden_ = 2e6;
+  std::vector<Eigen::Array3i> labels_;
+  std::vector<double> table_, unary_;
+  std::vector<std::pair<int, int>> edges_;
+};
+
+}  // namespace restitch

@@ -1,0 +1,44 @@
+// restitch/restitch.hpp - the umbrella header: everything, with the default policies.
+//
+// restitch resizes man-made 3D models the way a modeller would: it finds how
+// the model repeats (restitch::analyze: offset statistics of matched
+// descriptors, method.md section 1), then rebuilds it longer, taller or
+// shorter by stitching translated copies of itself along those repeats, with
+// seams chosen by graph cut (restitch::Retargeter / restitch::retarget,
+// sections 2 and 3).
+//
+//   #define RESTITCH_GLTF_IMPLEMENTATION   // in exactly one .cpp of your program
+//   #include <restitch/restitch.hpp>
+//
+//   restitch::Result<restitch::Mesh> mesh = restitch::load_gltf("shelf.glb");
+//   restitch::Result<restitch::Analysis> a = restitch::analyze(*mesh);
+//   restitch::Result<restitch::RetargetResult> r = restitch::retarget(*mesh, *a, {2, 0, 0});
+//   restitch::save_gltf(r->mesh, "longer.glb");
+//
+// Every stage is a policy (a template parameter with a default) that a custom
+// build may replace: descriptor (ShotDescriptor, FpfhDescriptor), matcher
+// (BruteForceMatcher, ReducedMatcher), offset detector
+// (HistogramOffsetDetector), label space (LatticeLabels, RegularLabels),
+// max-flow back end (BkMaxFlow), graph solver (AlphaExpansion) and stitcher
+// (ClipStitcher). Each contract is documented in its header and checked by a
+// static_assert at the entry point. No call throws; each returns a Status or
+// a Result.
+#pragma once
+
+#include "restitch/analysis.hpp"
+#include "restitch/descriptor/fpfh.hpp"
+#include "restitch/descriptor/shot.hpp"
+#include "restitch/descriptor/xyzn.hpp"
+#include "restitch/energy/seam_energy.hpp"
+#include "restitch/io/gltf.hpp"
+#include "restitch/lattice/label_space.hpp"
+#include "restitch/matcher/brute_force.hpp"
+#include "restitch/matcher/reduced.hpp"
+#include "restitch/mesh.hpp"
+#include "restitch/retarget.hpp"
+#include "restitch/samples/samples.hpp"
+#include "restitch/solver/alpha_expansion.hpp"
+#include "restitch/solver/max_flow_bk.hpp"
+#include "restitch/solver/mrf.hpp"
+#include "restitch/solver/mrf_io.hpp"
+#include "restitch/stitch/stitch.hpp"

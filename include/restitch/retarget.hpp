@@ -1,0 +1,263 @@
+// restitch/retarget.hpp - resize a model along its repeats (method.md sections 2 and 3).
+//
+//   Result<Analysis> a = restitch::analyze(mesh);
+//   restitch::Retargeter<> r(mesh, *a);          // once per (mesh, analysis)
+//   Result<RetargetResult> out = r.retarget({2, 0, 0});  // as often as you like
+//
+// A request is integer steps along the principal offsets (negative shrinks;
+// dummy directions must stay 0), or a target bounding-box size turned into
+// the nearest steps by `steps_for_size`. One call builds the labelling
+// problem (restitch/energy/seam_energy.hpp), solves it with the solver
+// policy (alpha-expansion over Boykov-Kolmogorov max-flow by default),
+// and stitches the labelled cells into a triangle mesh (stitcher policy).
+// Steps of zero return the input geometry unchanged (a copy of the mesh).
+//
+// Reuse: a Retargeter keeps everything that does not depend on the size:
+// the label grid, the features grouped by cell with every cell-set distance
+// computed so far, and the stitcher's prepared cache. That is what the live
+// slider of the web demo calls. It refers to `mesh` and `analysis`, which
+// must outlive it unchanged.
+//
+// Policies (each contract checked with a readable static_assert here):
+//   LabelSpace  restitch/lattice/label_space.hpp (LatticeLabels, RegularLabels)
+//   Solver      restitch/solver/mrf.hpp's graph-solver contract (AlphaExpansion<MaxFlow>)
+//   Stitcher    restitch/stitch/stitch.hpp (ClipStitcher)
+//
+// Limits: a request whose nodes x labels exceed `max_problem_size` is refused
+// with StatusCode::too_large and a message naming the option.
+// Cost: O(nodes x labels x neighbours) per request for the tables, then the
+// solver's cycles, then the stitch (linear in output triangles).
+#pragma once
+
+#include <Eigen/Core>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "restitch/analysis.hpp"
+#include "restitch/energy/seam_energy.hpp"
+#include "restitch/lattice/label_space.hpp"
+#include "restitch/solver/alpha_expansion.hpp"
+#include "restitch/stitch/stitch.hpp"
+
+namespace restitch {
+
+struct RetargetOptions {
+  Neighbourhood neighbourhood = Neighbourhood::n26;    ///< the paper's; n6 as an option
+  SetDistance set_distance = SetDistance::hausdorff;   ///< the paper's; mean_nearest as an option
+  /// Refuse requests whose nodes x labels exceed this (memory and time grow with it).
+  std::size_t max_problem_size = 2'000'000;
+  /// Also report, for every output face, the index of the label of the cell it lies in (for display).
+  bool face_labels = false;
+};
+
+struct RetargetReport {
+  Eigen::Array3i steps = Eigen::Array3i::Zero();       ///< as requested, along the principal offsets
+  Eigen::Array3i grid_steps = Eigen::Array3i::Zero();  ///< cells added per axis of the label grid
+  Eigen::Array3i in_cells = Eigen::Array3i::Ones(), out_cells = Eigen::Array3i::Ones();
+  int nodes = 0, labels = 0, edges = 0, cycles = 0;
+  double energy = 0;
+  bool non_metric = false;
+  std::size_t triangles_in = 0, triangles_out = 0, regions = 0;
+  Eigen::Vector3d size_in = Eigen::Vector3d::Zero(), size_out = Eigen::Vector3d::Zero();  ///< bounding boxes, model units
+  std::map<std::string, double> timings_ms;  ///< energy, solve, stitch, total (informative only)
+};
+
+struct RetargetResult {
+  Mesh mesh;
+  RetargetReport report;
+  Lattice grid;                             ///< the grid the labels live on (model units)
+  std::vector<Eigen::Array3i> labels;       ///< the label shifts, by label index
+  std::vector<int> cell_labels;             ///< label index per output cell (linear order)
+  std::vector<int> face_labels;             ///< label index per output face (when requested)
+};
+
+template <class LabelSpace = LatticeLabels, class Solver = AlphaExpansion<>, class Stitcher = ClipStitcher>
+class Retargeter {
+  static_assert(is_label_space_v<LabelSpace>,
+                "restitch::Retargeter: the label space must provide `name`, `Status grid(const Mesh&, const Analysis&, "
+                "Lattice&) const` and `Status grid_steps(const Analysis&, const Lattice&, const Eigen::Array3i&, "
+                "Eigen::Array3i&) const` (see restitch/lattice/label_space.hpp)");
+  static_assert(is_graph_solver_v<Solver, SeamMrf>,
+                "restitch::Retargeter: the solver must provide `template <class P> Status solve(const P&, "
+                "std::vector<int>&, SolveReport&, const Progress&) const` (see restitch/solver/mrf.hpp)");
+  static_assert(is_stitcher_policy_v<Stitcher>,
+                "restitch::Retargeter: the stitcher must provide `Status stitch(const Mesh&, const Lattice&, const "
+                "Eigen::Array3i&, const std::vector<Eigen::Array3i>&, Mesh&, StitchReport&) const` "
+                "(see restitch/stitch/stitch.hpp)");
+
+ public:
+  Retargeter(const Mesh& mesh, const Analysis& analysis, RetargetOptions options = {}, LabelSpace labels = {},
+             Solver solver = {}, Stitcher stitcher = {})
+      : mesh_(&mesh), analysis_(&analysis), options_(options), space_(labels), solver_(solver), stitcher_(stitcher) {
+    status_ = space_.grid(mesh, analysis, grid_);
+    if (!status_) return;
+    if (std::int64_t(grid_.cells.prod()) > std::int64_t(options_.max_problem_size))
+      status_ = error(StatusCode::too_large, "the label grid has " + std::to_string(grid_.cells.prod()) +
+                                                  " cells, more than max_problem_size (" +
+                                                  std::to_string(options_.max_problem_size) + ")");
+    if (!status_) return;
+    cells_ = std::make_unique<CellDescriptors>(analysis, grid_, options_.set_distance);
+    if constexpr (has_prepared_stitch_v<Stitcher>) status_ = stitcher_.prepare(mesh, grid_, cache_);
+    size_in_ = bounding_box(mesh).size();
+  }
+
+  /// ok when the grid and caches were built; otherwise why not.
+  const Status& status() const { return status_; }
+  const Lattice& grid() const { return grid_; }
+  static constexpr const char* label_space_name() { return LabelSpace::name; }
+
+  /// Resizes by `steps` along the principal offsets (see the header comment).
+  Result<RetargetResult> retarget(const Eigen::Array3i& steps, const Progress& progress = {}) {
+    using clock = std::chrono::steady_clock;
+    const auto t0 = clock::now();
+    auto ms_since = [](clock::time_point t) { return std::chrono::duration<double, std::milli>(clock::now() - t).count(); };
+    RESTITCH_TRY(status_);
+    RetargetResult out;
+    RetargetReport& rep = out.report;
+    rep.steps = steps;
+    rep.in_cells = grid_.cells;
+    rep.triangles_in = mesh_->triangle_count();
+    rep.size_in = size_in_;
+    out.grid = grid_;
+    RESTITCH_TRY(space_.grid_steps(*analysis_, grid_, steps, rep.grid_steps));
+    const Eigen::Array3i k = rep.grid_steps;
+    for (int a = 0; a < 3; ++a)
+      if (grid_.cells[a] + k[a] < 1)
+        return error(StatusCode::invalid_argument,
+                     "cannot shrink axis " + std::to_string(a + 1) + " by " + std::to_string(-steps[a]) +
+                         " steps: the model has " + std::to_string(grid_.cells[a]) + " cells along it (at most " +
+                         std::to_string(grid_.cells[a] - 1) + " steps can be removed)");
+    rep.out_cells = grid_.cells + k;
+    const double nodes = double(rep.out_cells.prod());
+    const double labels = double((k.abs() + 1).prod());
+    if (nodes * labels > double(options_.max_problem_size))
+      return error(StatusCode::too_large,
+                   "this request needs " + std::to_string(std::int64_t(nodes)) + " nodes x " +
+                       std::to_string(std::int64_t(labels)) + " labels, more than the limit of " +
+                       std::to_string(options_.max_problem_size) +
+                       " (RetargetOptions::max_problem_size; --max-problem on the command line): ask for fewer steps "
+                       "or raise the limit");
+
+    if ((k == 0).all()) {  // nothing to do: the input, unchanged
+      out.mesh = *mesh_;
+      rep.nodes = int(nodes), rep.labels = 1, rep.regions = 1;
+      rep.triangles_out = rep.triangles_in;
+      rep.size_out = size_in_;
+      out.labels = {Eigen::Array3i::Zero()};
+      out.cell_labels.assign(std::size_t(nodes), 0);
+      if (options_.face_labels) out.face_labels.assign(out.mesh.triangle_count(), 0);
+      rep.timings_ms["total"] = ms_since(t0);
+      return out;
+    }
+
+    if (!progress.report("energy", 0.0)) return error(StatusCode::cancelled, "cancelled");
+    auto t = clock::now();
+    SeamMrf problem(*cells_, k, options_.neighbourhood);
+    rep.timings_ms["energy"] = ms_since(t);
+    rep.nodes = problem.node_count();
+    rep.labels = problem.label_count();
+    rep.edges = problem.edge_count();
+
+    t = clock::now();
+    std::vector<int> labeling = problem.initial_labels();
+    SolveReport solve;
+    RESTITCH_TRY(solver_.solve(problem, labeling, solve, progress));
+    rep.timings_ms["solve"] = ms_since(t);
+    rep.cycles = solve.cycles;
+    rep.energy = solve.energy;
+    rep.non_metric = solve.non_metric_detected;
+
+    out.labels = problem.labels();
+    out.cell_labels = labeling;
+    std::vector<Eigen::Array3i> shift(labeling.size());
+    for (std::size_t x = 0; x < labeling.size(); ++x) shift[x] = out.labels[std::size_t(labeling[x])];
+
+    if (!progress.report("stitching", 0.0)) return error(StatusCode::cancelled, "cancelled");
+    t = clock::now();
+    StitchReport st;
+    if constexpr (has_prepared_stitch_v<Stitcher>) {
+      RESTITCH_TRY(stitcher_.stitch(cache_, rep.out_cells, shift, out.mesh, st));
+    } else {
+      RESTITCH_TRY(stitcher_.stitch(*mesh_, grid_, rep.out_cells, shift, out.mesh, st));
+    }
+    rep.timings_ms["stitch"] = ms_since(t);
+    rep.regions = st.regions;
+    rep.triangles_out = out.mesh.triangle_count();
+    rep.size_out = out.mesh.empty() ? Eigen::Vector3d::Zero() : bounding_box(out.mesh).size();
+    if (options_.face_labels) out.face_labels = face_labels(out.mesh, rep.out_cells, labeling);
+    rep.timings_ms["total"] = ms_since(t0);
+    progress.report("stitching", 1.0);
+    if (out.mesh.empty())
+      return error(StatusCode::internal, "the labelling left every output cell empty; please report this model");
+    return out;
+  }
+
+  /// The steps whose result's bounding box is nearest to `target` (model
+  /// units; a component <= 0 means "keep"). Searches every achievable step
+  /// count along each principal offset (at most `max_steps` added).
+  Result<Eigen::Array3i> steps_for_size(const Eigen::Vector3d& target, int max_steps = 64) const {
+    RESTITCH_TRY(status_);
+    const Lattice& L = analysis_->lattice;
+    Eigen::Vector3d want = target;
+    for (int i = 0; i < 3; ++i)
+      if (!(want[i] > 0)) want[i] = size_in_[i];
+    Eigen::Array3i lo = Eigen::Array3i::Zero(), hi = Eigen::Array3i::Zero();
+    for (int a = 0; a < 3; ++a)
+      if (!L.dummy[a]) lo[a] = 1 - L.cells[a], hi[a] = max_steps;
+    Eigen::Array3i best = Eigen::Array3i::Zero();
+    double best_err = INFINITY;
+    for (int w = lo[2]; w <= hi[2]; ++w)
+      for (int v = lo[1]; v <= hi[1]; ++v)
+        for (int u = lo[0]; u <= hi[0]; ++u) {
+          // Each step along v_a moves the far end by v_a: the box grows by |v_a| per component.
+          Eigen::Vector3d size = size_in_;
+          const Eigen::Array3i s(u, v, w);
+          for (int a = 0; a < 3; ++a) size += L.A.col(a).cwiseAbs() * s[a];
+          const double err = (size - want).cwiseQuotient(size_in_.cwiseMax(1e-12)).squaredNorm();
+          if (err < best_err - 1e-12) best_err = err, best = s;
+        }
+    return best;
+  }
+
+ private:
+  std::vector<int> face_labels(const Mesh& m, const Eigen::Array3i& out_cells, const std::vector<int>& labeling) const {
+    std::vector<int> fl(m.triangle_count(), 0);
+    const Eigen::Matrix3d Ainv = grid_.A.inverse();
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int corner = 0; corner < 3; ++corner)
+        for (int i = 0; i < 3; ++i) c[i] += double(m.V(m.F(f, corner), i)) / 3.0;
+      const Eigen::Vector3d q = Ainv * (c - grid_.origin);
+      Eigen::Array3i cell;
+      for (int a = 0; a < 3; ++a) cell[a] = std::clamp(int(std::floor(q[a])), 0, out_cells[a] - 1);
+      fl[std::size_t(f)] = labeling[std::size_t(SeamMrf::linear(cell, out_cells))];
+    }
+    return fl;
+  }
+
+  const Mesh* mesh_;
+  const Analysis* analysis_;
+  RetargetOptions options_;
+  LabelSpace space_;
+  Solver solver_;
+  Stitcher stitcher_;
+  Status status_;
+  Lattice grid_;
+  std::unique_ptr<CellDescriptors> cells_;
+  StitchCache cache_;
+  Eigen::Vector3d size_in_ = Eigen::Vector3d::Zero();
+};
+
+/// One-shot convenience: builds a Retargeter and resizes once.
+template <class LabelSpace = LatticeLabels, class Solver = AlphaExpansion<>, class Stitcher = ClipStitcher>
+Result<RetargetResult> retarget(const Mesh& mesh, const Analysis& analysis, const Eigen::Array3i& steps,
+                                const RetargetOptions& options = {}, const Progress& progress = {}) {
+  Retargeter<LabelSpace, Solver, Stitcher> r(mesh, analysis, options);
+  return r.retarget(steps, progress);
+}
+
+}  // namespace restitch

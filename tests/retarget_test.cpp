@@ -1,0 +1,282 @@
+// Retargeting: resized samples equal the samples generated with more repeats;
+// the energy, label spaces and limits behave as documented.
+#include <catch2/catch.hpp>
+
+#include <map>
+
+#include "restitch/restitch.hpp"
+#include "support/surface_distance.hpp"
+
+using namespace restitch;
+
+namespace {
+
+struct Prepared {
+  samples::SampleModel sample;
+  Analysis analysis;
+};
+
+// One analysis per family, shared by the test cases (analysis is the slow part).
+const Prepared& prepared(const std::string& name) {
+  static std::map<std::string, Prepared> cache;
+  auto it = cache.find(name);
+  if (it != cache.end()) return it->second;
+  auto s = samples::generate(name);
+  REQUIRE(s.ok());
+  auto a = analyze(s->mesh);
+  REQUIRE(a.ok());
+  return cache.emplace(name, Prepared{std::move(*s), std::move(*a)}).first->second;
+}
+
+// The lattice axis parallel to a generator (within 1 degree), or -1.
+int axis_of(const Lattice& L, const Eigen::Vector3d& g) {
+  for (int a = 0; a < 3; ++a)
+    if (!L.dummy[a] && std::abs(L.A.col(a).normalized().dot(g.normalized())) > std::cos(M_PI / 180.0)) return a;
+  return -1;
+}
+
+}  // namespace
+
+TEST_CASE("retarget: each sample family resized by k steps equals the family generated with k more repeats",
+          "[retarget][samples]") {
+  for (const samples::SampleInfo& info : samples::catalog()) {
+    const Prepared& p = prepared(info.name);
+    Retargeter<> r(p.sample.mesh, p.analysis);
+    REQUIRE(r.status().ok());
+    for (std::size_t g = 0; g < p.sample.generators.size(); ++g) {
+      const int axis = axis_of(p.analysis.lattice, p.sample.generators[g]);
+      INFO(info.name << " generator " << g);
+      REQUIRE(axis >= 0);
+      for (const int k : {2, -1}) {
+        INFO("steps " << k);
+        Eigen::Array3i steps = Eigen::Array3i::Zero();
+        steps[axis] = k;
+        auto out = r.retarget(steps);
+        REQUIRE(out.ok());
+        auto truth = samples::generate(info.name, {{p.sample.count_parameters[g], p.sample.counts[g] + k}});
+        REQUIRE(truth.ok());
+        const BoundingBox bt = bounding_box(truth->mesh), bo = bounding_box(out->mesh);
+        const double size = bt.size().norm();
+        CHECK((bt.min - bo.min).norm() < 1e-4 * size);
+        CHECK((bt.max - bo.max).norm() < 1e-4 * size);
+        const double d = restitch::test::symmetric_surface_distance(out->mesh, truth->mesh, 0.004 * size);
+        CHECK(d < 1e-4 * size);
+        CHECK(out->report.labels == std::abs(k) + 1);
+        CHECK(out->report.nodes == out->report.out_cells.prod());
+        CHECK(validate(out->mesh).ok());
+      }
+    }
+  }
+}
+
+TEST_CASE("retarget: the bookshelf keeps both side panels; the sheared facade stays sheared", "[retarget][samples]") {
+  {
+    const Prepared& p = prepared("bookshelf");
+    const int axis = axis_of(p.analysis.lattice, p.sample.generators[0]);
+    REQUIRE(axis >= 0);
+    Eigen::Array3i steps = Eigen::Array3i::Zero();
+    steps[axis] = 3;
+    auto out = retarget(p.sample.mesh, p.analysis, steps);
+    REQUIRE(out.ok());
+    // The outer faces of both side panels (area lying in the planes x = min and
+    // x = max) are there as in the input: each panel's area grows by nothing,
+    // since the shelf grew along x only.
+    auto end_areas = [](const Mesh& m) {
+      const BoundingBox b = bounding_box(m);
+      double low = 0, high = 0;
+      for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+        double xmin = 1e9, xmax = -1e9;
+        for (int c = 0; c < 3; ++c) xmin = std::min(xmin, double(m.V(m.F(f, c), 0))), xmax = std::max(xmax, double(m.V(m.F(f, c), 0)));
+        if (xmax < b.min.x() + 1e-4) low += 0.5 * double_area(m, f);
+        if (xmin > b.max.x() - 1e-4) high += 0.5 * double_area(m, f);
+      }
+      return std::make_pair(low, high);
+    };
+    const auto [in_low, in_high] = end_areas(p.sample.mesh);
+    const auto [out_low, out_high] = end_areas(out->mesh);
+    CHECK(in_low > 0.1);  // a real panel, not a sliver (0.3 m deep, over 1 m tall)
+    CHECK(out_low == Approx(in_low).epsilon(1e-4));
+    CHECK(out_high == Approx(in_high).epsilon(1e-4));
+  }
+  {
+    const Prepared& p = prepared("facade_sheared");
+    const int axis = axis_of(p.analysis.lattice, p.sample.generators[1]);
+    REQUIRE(axis >= 0);
+    // The lattice itself is sheared: its axes are not orthogonal.
+    const Eigen::Vector3d u = p.analysis.lattice.A.col(axis_of(p.analysis.lattice, p.sample.generators[0])).normalized();
+    CHECK(std::abs(u.dot(p.analysis.lattice.A.col(axis).normalized())) > 0.05);
+    Eigen::Array3i steps = Eigen::Array3i::Zero();
+    steps[axis] = 2;
+    auto out = retarget(p.sample.mesh, p.analysis, steps);
+    REQUIRE(out.ok());
+    // Two more floors move the top right by 2 * shear: the box grows along the shear too.
+    const Eigen::Vector3d grow = bounding_box(out->mesh).size() - bounding_box(p.sample.mesh).size();
+    const Eigen::Vector3d want = 2 * p.sample.generators[1].cwiseAbs();
+    CHECK((grow - want).norm() < 1e-3 * want.norm());
+  }
+}
+
+TEST_CASE("retarget: materials, groups and attribute values survive a resize", "[retarget][samples]") {
+  const Prepared& p = prepared("bookshelf");
+  const int axis = axis_of(p.analysis.lattice, p.sample.generators[0]);
+  REQUIRE(axis >= 0);
+  Eigen::Array3i steps = Eigen::Array3i::Zero();
+  steps[axis] = 2;
+  RetargetOptions options;
+  options.face_labels = true;
+  auto out = retarget(p.sample.mesh, p.analysis, steps, options);
+  REQUIRE(out.ok());
+  const Mesh& in = p.sample.mesh;
+  const Mesh& m = out->mesh;
+  REQUIRE(m.groups.size() == in.groups.size());
+  CHECK(m.materials.size() == in.materials.size());
+  for (std::size_t g = 0; g < in.groups.size(); ++g) CHECK(m.groups[g].attributes == in.groups[g].attributes);
+  REQUIRE(m.UV.size() == in.UV.size());
+  REQUIRE(out->face_labels.size() == m.triangle_count());
+  // Every output vertex that maps back (by its face's shift) onto an input
+  // vertex carries exactly the attributes of an input vertex at that spot.
+  std::multimap<std::tuple<float, float, float>, Eigen::Index> at;
+  for (Eigen::Index v = 0; v < in.V.rows(); ++v) at.emplace(std::make_tuple(in.V(v, 0), in.V(v, 1), in.V(v, 2)), v);
+  int matched = 0, equal = 0;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    const Eigen::Vector3d shift = out->grid.shift(out->labels[std::size_t(out->face_labels[std::size_t(f)])]);
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Index v = m.F(f, c);
+      const Eigen::Vector3d q = m.V.row(v).cast<double>().transpose() - shift;
+      // nearest input vertex position within float noise
+      for (auto it = at.lower_bound(std::make_tuple(float(q.x() - 1e-5), -1e30f, -1e30f));
+           it != at.end() && std::get<0>(it->first) <= q.x() + 1e-5; ++it) {
+        const Eigen::Index w = it->second;
+        if ((in.V.row(w).cast<double>().transpose() - q).norm() > 1e-5) continue;
+        ++matched;
+        if ((in.UV[0].row(w) - m.UV[0].row(v)).norm() < 1e-6f && (in.N.row(w) - m.N.row(v)).norm() < 1e-6f) {
+          ++equal;
+          break;
+        }
+      }
+    }
+  }
+  CHECK(matched > int(m.V.rows()) / 2);
+  CHECK(equal > 0.95 * double(m.F.rows() * 3));
+}
+
+TEST_CASE("retarget: zero steps return the input unchanged", "[retarget]") {
+  const Prepared& p = prepared("pin_header");
+  auto out = retarget(p.sample.mesh, p.analysis, Eigen::Array3i::Zero());
+  REQUIRE(out.ok());
+  CHECK(out->mesh.V == p.sample.mesh.V);
+  CHECK(out->mesh.F == p.sample.mesh.F);
+  CHECK(out->report.labels == 1);
+}
+
+TEST_CASE("retarget: refused requests say why", "[retarget]") {
+  const Prepared& p = prepared("pin_header");
+  const Lattice& L = p.analysis.lattice;
+  int real = -1, dummy = -1;
+  for (int a = 0; a < 3; ++a) (L.dummy[a] ? dummy : real) = a;
+  REQUIRE(real >= 0);
+  REQUIRE(dummy >= 0);
+  Eigen::Array3i steps = Eigen::Array3i::Zero();
+  steps[dummy] = 1;
+  auto r1 = retarget(p.sample.mesh, p.analysis, steps);
+  REQUIRE_FALSE(r1.ok());
+  CHECK_THAT(r1.status().message(), Catch::Contains("dummy"));
+  steps = Eigen::Array3i::Zero();
+  steps[real] = -L.cells[real];
+  auto r2 = retarget(p.sample.mesh, p.analysis, steps);
+  REQUIRE_FALSE(r2.ok());
+  CHECK_THAT(r2.status().message(), Catch::Contains("cannot shrink"));
+  RetargetOptions small;
+  small.max_problem_size = 50;
+  steps = Eigen::Array3i::Zero();
+  steps[real] = 5;
+  auto r3 = retarget(p.sample.mesh, p.analysis, steps, small);
+  REQUIRE_FALSE(r3.ok());
+  CHECK(r3.status().code() == StatusCode::too_large);
+  CHECK_THAT(r3.status().message(), Catch::Contains("max_problem_size"));
+}
+
+TEST_CASE("retarget: repeated requests on one Retargeter are deterministic and reuse the cache", "[retarget]") {
+  const Prepared& p = prepared("fence");
+  const int axis = axis_of(p.analysis.lattice, p.sample.generators[0]);
+  REQUIRE(axis >= 0);
+  Retargeter<> r(p.sample.mesh, p.analysis);
+  Eigen::Array3i steps = Eigen::Array3i::Zero();
+  steps[axis] = 3;
+  auto a = r.retarget(steps);
+  steps[axis] = -2;
+  auto b = r.retarget(steps);
+  steps[axis] = 3;
+  auto c = r.retarget(steps);
+  REQUIRE(a.ok());
+  REQUIRE(b.ok());
+  REQUIRE(c.ok());
+  CHECK(a->mesh.V == c->mesh.V);
+  CHECK(a->mesh.F == c->mesh.F);
+  CHECK(a->report.energy == c->report.energy);
+  auto fresh = retarget(p.sample.mesh, p.analysis, steps);
+  REQUIRE(fresh.ok());
+  CHECK(fresh->mesh.V == a->mesh.V);
+  auto glb1 = save_glb_to_memory(a->mesh), glb2 = save_glb_to_memory(fresh->mesh);
+  CHECK(*glb1 == *glb2);
+}
+
+TEST_CASE("retarget: steps_for_size picks the nearest achievable size", "[retarget]") {
+  const Prepared& p = prepared("pin_header");
+  Retargeter<> r(p.sample.mesh, p.analysis);
+  const int axis = axis_of(p.analysis.lattice, p.sample.generators[0]);
+  REQUIRE(axis >= 0);
+  const Eigen::Vector3d size = bounding_box(p.sample.mesh).size();
+  const Eigen::Vector3d pitch = p.sample.generators[0];
+  auto s = r.steps_for_size(size + 3.3 * pitch.cwiseAbs());
+  REQUIRE(s.ok());
+  CHECK((*s)[axis] == 3);
+  auto shrink = r.steps_for_size(size - 1.8 * pitch.cwiseAbs());
+  REQUIRE(shrink.ok());
+  CHECK((*shrink)[axis] == -2);
+}
+
+TEST_CASE("retarget: the regular-grid baseline needs more labels for the same request", "[retarget]") {
+  const Prepared& p = prepared("pin_header");
+  const int axis = axis_of(p.analysis.lattice, p.sample.generators[0]);
+  REQUIRE(axis >= 0);
+  Eigen::Array3i steps = Eigen::Array3i::Zero();
+  steps[axis] = 1;
+  Retargeter<LatticeLabels> lattice(p.sample.mesh, p.analysis);
+  Retargeter<RegularLabels> regular(p.sample.mesh, p.analysis);
+  auto a = lattice.retarget(steps);
+  auto b = regular.retarget(steps);
+  REQUIRE(a.ok());
+  REQUIRE(b.ok());
+  CHECK(a->report.labels == 2);
+  // One pitch of 2.54 mm is about 2 cells of 0.1 normalized units.
+  const double cells = p.analysis.normalization.to_normalized_offset(p.sample.generators[0]).norm() / 0.1;
+  CHECK(b->report.labels == int(std::lround(cells)) + 1);
+  CHECK(b->report.labels > a->report.labels);
+  // The baseline grows the model by the snapped length.
+  const double grow = bounding_box(b->mesh).size()[0] - bounding_box(p.sample.mesh).size()[0];
+  CHECK(grow == Approx(std::lround(cells) * regular.grid().A(0, 0)).epsilon(1e-3));
+}
+
+TEST_CASE("seam energy: the labelling problem is metric for Hausdorff and the solver never ends above the start",
+          "[retarget][energy]") {
+  const Prepared& p = prepared("bookshelf");
+  CellDescriptors cells(p.analysis, p.analysis.lattice, SetDistance::hausdorff);
+  Eigen::Array3i k = Eigen::Array3i::Zero();
+  const int axis = axis_of(p.analysis.lattice, p.sample.generators[0]);
+  REQUIRE(axis >= 0);
+  k[axis] = 2;
+  SeamMrf mrf(cells, k, Neighbourhood::n26);
+  CHECK(check_metric(mrf).ok);
+  std::vector<int> labels = mrf.initial_labels();
+  const double start = energy(mrf, labels);
+  SolveReport report;
+  REQUIRE(AlphaExpansion<>().solve(mrf, labels, report, {}).ok());
+  CHECK(report.energy <= start);
+  CHECK(report.energy == Approx(energy(mrf, labels)));
+  // Every node copies a cell inside the input: no forbidden label is used.
+  CHECK(report.energy < mrf.forbidden());
+  // The 6-neighbourhood has fewer edges.
+  SeamMrf six(cells, k, Neighbourhood::n6);
+  CHECK(six.edge_count() < mrf.edge_count());
+}
