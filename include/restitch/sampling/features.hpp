@@ -1,0 +1,183 @@
+// restitch/sampling/features.hpp - mesh vertices as features, and joining point sets.
+//
+// method.md 1.1: "All mesh vertices are features too, but cap them: above a
+// limit (default 20 000) subsample vertices to the dense spacing." The
+// analysis uses features = concat(poisson_disk_sample(..., 0.06, ...),
+// vertex_features(...)).
+//
+//   Result<PointSet> vertex_features(mesh, norm, cap, subsample_spacing, seed)
+//   PointSet concat(a, b)
+//
+// vertex_features contract:
+//   * Only vertices referenced by some triangle are used (any triangle, also
+//     a zero-area one). Vertices at identical positions (exact float equality
+//     of x, y and z; flat shading and UV seams duplicate them) are merged
+//     into one feature, represented by the lowest vertex index. Features come
+//     in increasing order of that index.
+//   * Positions in NORMALIZED units (`norm.to_normalized`).
+//   * Normal: the sum over every triangle touching the position (through any
+//     of the merged vertices) of (b - a) x (c - a), i.e. area-weighted face
+//     normals, normalized. The mesh's N channel is not used. Fallback when
+//     that sum has zero length (e.g. two coincident faces of opposite
+//     orientation): the unit normal of the largest-area incident triangle
+//     (lowest face index on equal areas); when every incident triangle has
+//     zero area: +Z (0, 0, 1). Normals are never NaN.
+//   * cap: when more than `cap` merged vertices remain, they are thinned by
+//     Poisson-disk elimination at `subsample_spacing`: visited in a seeded
+//     random order (std::mt19937_64(seed), raw output, Fisher-Yates), a
+//     vertex is kept when no kept vertex is closer than the spacing. If more
+//     than `cap` are still kept, an evenly strided subset of exactly `cap` of
+//     them (in vertex order: the k-th kept is floor(k * kept / cap)) remains.
+//     cap == 0 returns an empty set (vertex features off).
+//   * Deterministic; the output is sized by the call.
+//   * Errors: invalid_mesh (no triangles, index out of range, a non-finite
+//     referenced position), invalid_argument (subsample_spacing not finite
+//     and > 0), too_large (spacing too small for the grid, see poisson_disk.hpp).
+//
+// Cost: O(#F + #V log #V) (a sort to merge positions); the thinning adds
+// O(#V) expected grid tests. Memory O(#V + #F).
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include "restitch/descriptor/descriptor.hpp"
+#include "restitch/mesh.hpp"
+#include "restitch/normalization.hpp"
+#include "restitch/sampling/poisson_disk.hpp"
+#include "restitch/status.hpp"
+
+namespace restitch {
+
+/// The rows of `a` followed by the rows of `b`. Cost O(#a + #b).
+inline PointSet concat(const PointSet& a, const PointSet& b) {
+  RESTITCH_ASSERT(a.points.rows() == a.normals.rows() && b.points.rows() == b.normals.rows(),
+                  "a PointSet needs one normal per point");
+  PointSet out;
+  out.points.resize(a.size() + b.size(), 3);
+  out.normals.resize(a.size() + b.size(), 3);
+  out.points.topRows(a.size()) = a.points;
+  out.points.bottomRows(b.size()) = b.points;
+  out.normals.topRows(a.size()) = a.normals;
+  out.normals.bottomRows(b.size()) = b.normals;
+  return out;
+}
+
+/// The mesh vertices as features (see the top of this header).
+inline Result<PointSet> vertex_features(const Mesh& mesh, const Normalization& norm, std::size_t cap = 20000,
+                                        double subsample_spacing = 0.02, std::uint64_t seed = 1) {
+  if (!(subsample_spacing > 0) || !std::isfinite(subsample_spacing))
+    return error(StatusCode::invalid_argument, "the vertex subsampling spacing must be a positive finite number");
+  if (mesh.F.rows() == 0) return error(StatusCode::invalid_mesh, "the mesh has no triangles");
+  const Eigen::Index nv = mesh.V.rows();
+  if (mesh.F.maxCoeff() >= static_cast<std::uint32_t>(nv))
+    return error(StatusCode::invalid_mesh, "a triangle refers to a vertex index past the end of the vertex list");
+  if (cap == 0) return PointSet{};
+
+  // Referenced vertices, checked.
+  std::vector<char> used(static_cast<std::size_t>(nv), 0);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) used[mesh.F(f, k)] = 1;
+  std::vector<std::uint32_t> order;
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    if (!used[static_cast<std::size_t>(i)]) continue;
+    if (!mesh.V.row(i).allFinite())
+      return error(StatusCode::invalid_mesh,
+                   "vertex " + std::to_string(i) + " has a non-finite coordinate (NaN or infinity)");
+    order.push_back(static_cast<std::uint32_t>(i));
+  }
+
+  // Merge equal positions: sort by (x, y, z, index); each run maps to its first (lowest) index.
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    for (int k = 0; k < 3; ++k) {
+      const float pa = mesh.V(a, k), pb = mesh.V(b, k);
+      if (pa < pb) return true;
+      if (pb < pa) return false;
+    }
+    return a < b;
+  });
+  std::vector<std::uint32_t> rep(static_cast<std::size_t>(nv), 0);
+  for (std::size_t k = 0; k < order.size();) {
+    std::size_t e = k + 1;
+    while (e < order.size() && mesh.V(order[e], 0) == mesh.V(order[k], 0) &&
+           mesh.V(order[e], 1) == mesh.V(order[k], 1) && mesh.V(order[e], 2) == mesh.V(order[k], 2))
+      ++e;
+    for (std::size_t j = k; j < e; ++j) rep[order[j]] = order[k];
+    k = e;
+  }
+
+  // Area-weighted normals per representative, plus the largest-face fallback.
+  const Eigen::Index nf = mesh.F.rows();
+  std::vector<Eigen::Vector3d> sum(static_cast<std::size_t>(nv), Eigen::Vector3d::Zero());
+  std::vector<double> best_area(static_cast<std::size_t>(nv), 0.0);
+  std::vector<Eigen::Vector3d> best_normal(static_cast<std::size_t>(nv), Eigen::Vector3d(0, 0, 1));
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)).transpose().cast<double>();
+    const Eigen::Vector3d b = mesh.V.row(mesh.F(f, 1)).transpose().cast<double>();
+    const Eigen::Vector3d c = mesh.V.row(mesh.F(f, 2)).transpose().cast<double>();
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double len = n.norm();
+    std::uint32_t seen[3];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t r = rep[mesh.F(f, k)];
+      seen[k] = r;
+      if ((k > 0 && seen[0] == r) || (k > 1 && seen[1] == r)) continue;  // a face counts once per position
+      sum[r] += n;
+      if (len > best_area[r]) best_area[r] = len, best_normal[r] = n / len;
+    }
+  }
+
+  std::vector<std::uint32_t> reps;
+  for (std::uint32_t v : order)
+    if (rep[v] == v) reps.push_back(v);
+  std::sort(reps.begin(), reps.end());
+
+  auto position = [&](std::uint32_t v) { return norm.to_normalized(mesh.V.row(v).transpose().cast<double>()); };
+  if (reps.size() > cap) {
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+    for (std::uint32_t v : reps) {
+      const Eigen::Vector3d p = position(v);
+      lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    }
+    RESTITCH_TRY(detail::check_grid_range(lo, hi, subsample_spacing));
+    std::vector<std::uint32_t> visit = reps;
+    std::mt19937_64 rng(seed);
+    for (std::size_t i = visit.size(); i > 1; --i) std::swap(visit[i - 1], visit[detail::bounded_index(rng, i)]);
+    detail::PointGrid grid(subsample_spacing, lo, hi, reps.size());
+    std::vector<std::uint32_t> kept;
+    for (std::uint32_t v : visit) {
+      const Eigen::Vector3d p = position(v).cast<float>().cast<double>();
+      if (!grid.far_from_all(p)) continue;
+      grid.insert(p);
+      kept.push_back(v);
+    }
+    std::sort(kept.begin(), kept.end());
+    if (kept.size() > cap) {
+      std::vector<std::uint32_t> strided(cap);
+      for (std::size_t k = 0; k < cap; ++k)
+        strided[k] = kept[static_cast<std::size_t>((static_cast<unsigned long long>(k) * kept.size()) /
+                                                   cap)];  // k * kept < 2^64 for any real mesh
+      kept.swap(strided);
+    }
+    reps.swap(kept);
+  }
+
+  PointSet out;
+  out.points.resize(static_cast<Eigen::Index>(reps.size()), 3);
+  out.normals.resize(static_cast<Eigen::Index>(reps.size()), 3);
+  for (std::size_t i = 0; i < reps.size(); ++i) {
+    const std::uint32_t v = reps[i];
+    const double len = sum[v].norm();
+    const Eigen::Vector3d n = (len > 0 && std::isfinite(len)) ? Eigen::Vector3d(sum[v] / len) : best_normal[v];
+    out.points.row(static_cast<Eigen::Index>(i)) = position(v).cast<float>().transpose();
+    out.normals.row(static_cast<Eigen::Index>(i)) = n.cast<float>().transpose();
+  }
+  return out;
+}
+
+}  // namespace restitch
