@@ -41,5 +41,7 @@ using Registrar = std::function<void(CLI::App& app, int* exit_code)>;
 void register_info(CLI::App& app, int* exit_code);
 void register_sample(CLI::App& app, int* exit_code);
 void register_convert(CLI::App& app, int* exit_code);
+void register_analysis_commands(CLI::App& app, int* exit_code);  // analyze, describe
+void register_retarget_commands(CLI::App& app, int* exit_code);  // resize, solve
 
 }  // namespace restitch::cli

@@ -69,6 +69,8 @@ int main(int argc, char** argv) {
   register_info(app, &exit_code);
   register_sample(app, &exit_code);
   register_convert(app, &exit_code);
+  register_analysis_commands(app, &exit_code);
+  register_retarget_commands(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

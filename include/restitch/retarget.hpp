@@ -61,7 +61,7 @@ struct RetargetReport {
   int nodes = 0, labels = 0, edges = 0, cycles = 0;
   double energy = 0;
   bool non_metric = false;
-  std::size_t triangles_in = 0, triangles_out = 0, regions = 0;
+  std::size_t triangles_in = 0, triangles_out = 0, vertices_out = 0, regions = 0;
   Eigen::Vector3d size_in = Eigen::Vector3d::Zero(), size_out = Eigen::Vector3d::Zero();  ///< bounding boxes, model units
   std::map<std::string, double> timings_ms;  ///< energy, solve, stitch, total (informative only)
 };
@@ -118,34 +118,16 @@ class Retargeter {
     RESTITCH_TRY(status_);
     RetargetResult out;
     RetargetReport& rep = out.report;
-    rep.steps = steps;
-    rep.in_cells = grid_.cells;
-    rep.triangles_in = mesh_->triangle_count();
-    rep.size_in = size_in_;
+    RESTITCH_TRY(plan(steps, rep));
     out.grid = grid_;
-    RESTITCH_TRY(space_.grid_steps(*analysis_, grid_, steps, rep.grid_steps));
     const Eigen::Array3i k = rep.grid_steps;
-    for (int a = 0; a < 3; ++a)
-      if (grid_.cells[a] + k[a] < 1)
-        return error(StatusCode::invalid_argument,
-                     "cannot shrink axis " + std::to_string(a + 1) + " by " + std::to_string(-steps[a]) +
-                         " steps: the model has " + std::to_string(grid_.cells[a]) + " cells along it (at most " +
-                         std::to_string(grid_.cells[a] - 1) + " steps can be removed)");
-    rep.out_cells = grid_.cells + k;
     const double nodes = double(rep.out_cells.prod());
-    const double labels = double((k.abs() + 1).prod());
-    if (nodes * labels > double(options_.max_problem_size))
-      return error(StatusCode::too_large,
-                   "this request needs " + std::to_string(std::int64_t(nodes)) + " nodes x " +
-                       std::to_string(std::int64_t(labels)) + " labels, more than the limit of " +
-                       std::to_string(options_.max_problem_size) +
-                       " (RetargetOptions::max_problem_size; --max-problem on the command line): ask for fewer steps "
-                       "or raise the limit");
 
     if ((k == 0).all()) {  // nothing to do: the input, unchanged
       out.mesh = *mesh_;
       rep.nodes = int(nodes), rep.labels = 1, rep.regions = 1;
       rep.triangles_out = rep.triangles_in;
+      rep.vertices_out = out.mesh.vertex_count();
       rep.size_out = size_in_;
       out.labels = {Eigen::Array3i::Zero()};
       out.cell_labels.assign(std::size_t(nodes), 0);
@@ -187,6 +169,7 @@ class Retargeter {
     rep.timings_ms["stitch"] = ms_since(t);
     rep.regions = st.regions;
     rep.triangles_out = out.mesh.triangle_count();
+    rep.vertices_out = out.mesh.vertex_count();
     rep.size_out = out.mesh.empty() ? Eigen::Vector3d::Zero() : bounding_box(out.mesh).size();
     if (options_.face_labels) out.face_labels = face_labels(out.mesh, rep.out_cells, labeling);
     rep.timings_ms["total"] = ms_since(t0);
@@ -194,6 +177,14 @@ class Retargeter {
     if (out.mesh.empty())
       return error(StatusCode::internal, "the labelling left every output cell empty; please report this model");
     return out;
+  }
+
+  /// The labelling problem a request solves (for --dump-mrf and benchmarks).
+  Result<SeamMrf> labeling_problem(const Eigen::Array3i& steps) {
+    RESTITCH_TRY(status_);
+    RetargetReport rep;
+    RESTITCH_TRY(plan(steps, rep));
+    return SeamMrf(*cells_, rep.grid_steps, options_.neighbourhood);
   }
 
   /// The steps whose result's bounding box is nearest to `target` (model
@@ -224,6 +215,36 @@ class Retargeter {
   }
 
  private:
+  // Checks a request and fills the size-independent part of the report.
+  Status plan(const Eigen::Array3i& steps, RetargetReport& rep) const {
+    rep.steps = steps;
+    rep.in_cells = grid_.cells;
+    rep.triangles_in = mesh_->triangle_count();
+    rep.size_in = size_in_;
+    if ((steps != 0).any() && analysis_->principal.empty())
+      return error(StatusCode::no_repetition,
+                   "no repetition was found in this model, so there is nothing to resize along");
+    RESTITCH_TRY(space_.grid_steps(*analysis_, grid_, steps, rep.grid_steps));
+    const Eigen::Array3i k = rep.grid_steps;
+    for (int a = 0; a < 3; ++a)
+      if (grid_.cells[a] + k[a] < 1)
+        return error(StatusCode::invalid_argument,
+                     "cannot shrink axis " + std::to_string(a + 1) + " by " + std::to_string(-steps[a]) +
+                         " steps: the model has " + std::to_string(grid_.cells[a]) + " cells along it (at most " +
+                         std::to_string(grid_.cells[a] - 1) + " steps can be removed)");
+    rep.out_cells = grid_.cells + k;
+    const double nodes = double(rep.out_cells.prod());
+    const double labels = double((k.abs() + 1).prod());
+    if (nodes * labels > double(options_.max_problem_size))
+      return error(StatusCode::too_large,
+                   "this request needs " + std::to_string(std::int64_t(nodes)) + " nodes x " +
+                       std::to_string(std::int64_t(labels)) + " labels, more than the limit of " +
+                       std::to_string(options_.max_problem_size) +
+                       " (RetargetOptions::max_problem_size; --max-problem on the command line): ask for fewer steps "
+                       "or raise the limit");
+    return {};
+  }
+
   std::vector<int> face_labels(const Mesh& m, const Eigen::Array3i& out_cells, const std::vector<int>& labeling) const {
     std::vector<int> fl(m.triangle_count(), 0);
     const Eigen::Matrix3d Ainv = grid_.A.inverse();
@@ -251,6 +272,32 @@ class Retargeter {
   StitchCache cache_;
   Eigen::Vector3d size_in_ = Eigen::Vector3d::Zero();
 };
+
+/// Lattice steps from steps along the principal offsets in order (the i-th
+/// value goes to the i-th non-dummy lattice axis), as a user states them.
+/// More non-zero values than principal offsets is an error saying how many
+/// the model has.
+inline Result<Eigen::Array3i> principal_steps(const Analysis& analysis, const std::vector<int>& steps) {
+  Eigen::Array3i out = Eigen::Array3i::Zero();
+  std::size_t next = 0;
+  for (int a = 0; a < 3; ++a)
+    if (!analysis.lattice.dummy[a] && next < steps.size()) out[a] = steps[next++];
+  for (std::size_t i = next; i < steps.size(); ++i)
+    if (steps[i] != 0)
+      return analysis.principal.empty()
+                 ? error(StatusCode::no_repetition, "no repetition was found in this model, so there is nothing to resize along")
+                 : error(StatusCode::invalid_argument, "the model has " + std::to_string(analysis.principal.size()) +
+                                                           " principal offset(s), so at most that many steps can be non-zero");
+  return out;
+}
+
+/// The inverse of principal_steps: the steps along each principal offset.
+inline std::vector<int> steps_along_principal(const Analysis& analysis, const Eigen::Array3i& lattice_steps) {
+  std::vector<int> out;
+  for (int a = 0; a < 3; ++a)
+    if (!analysis.lattice.dummy[a]) out.push_back(lattice_steps[a]);
+  return out;
+}
 
 /// One-shot convenience: builds a Retargeter and resizes once.
 template <class LabelSpace = LatticeLabels, class Solver = AlphaExpansion<>, class Stitcher = ClipStitcher>

@@ -4,7 +4,7 @@
 # Khronos glTF-Validator on every file the tool writes.
 # Usage: cli_test.sh RESTITCH_BINARY SOURCE_DIR WORK_DIR
 set -uo pipefail
-bin="$1"; src="$2"; work="$3"
+bin="$1"; src="$2"; work="$3"; mode="${4:-full}"  # "quick" skips the slow real-model resizes (sanitizer build)
 rm -rf "$work"; mkdir -p "$work"
 models="$src/../shared/models"
 pass=0; fail=0
@@ -28,7 +28,7 @@ json_field() { node -e "const j=JSON.parse(require('fs').readFileSync(0,'utf8'))
 expect 0 "$bin" --help
 expect 2 "$bin"
 expect 2 "$bin" no-such-command
-for sub in info sample convert; do expect 0 "$bin" "$sub" --help; done
+for sub in info sample convert analyze describe resize solve; do expect 0 "$bin" "$sub" --help; done
 
 # Samples: listed, generated, validator-clean, counted by info.
 expect 0 "$bin" sample --list
@@ -60,6 +60,71 @@ if [ -f "$models/MANIFEST.tsv" ]; then
   done < "$models/MANIFEST.tsv"
 else
   echo "SKIP: ../shared/models is absent, real-model checks skipped"
+fi
+
+# Analysis and resize of the samples: JSON fields, known offsets, validator-clean outputs.
+"$bin" sample pin_header -o "$work/pins.glb" >/dev/null
+expect 0 "$bin" analyze "$work/pins.glb" --json "$work/pins-analysis.json"
+grep -q "principal offset 1" "$work/out" && ok || bad "analyze does not print the principal offset"
+node -e '
+  const j = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
+  for (const k of ["scale","features","dominant_offsets","principal_offsets","dummy_directions","lattice_cells","sparsity","timings_ms"])
+    if (!(k in j)) { console.error("missing " + k); process.exit(1); }
+  const p = j.principal_offsets;
+  if (p.length !== 1 || Math.abs(Math.hypot(...p[0]) - 2.54) > 0.0127) { console.error("pitch " + JSON.stringify(p)); process.exit(1); }
+  if (!(j.sparsity.top7 > 0 && j.sparsity.top7 <= j.sparsity.top20 && j.sparsity.top20 <= 1)) process.exit(1);
+' "$work/pins-analysis.json" && ok || bad "analyze --json fields or the pin pitch are wrong"
+expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins+3.glb" --steps 3 --json "$work/pins+3.json" --dump-mrf "$work/pins+3.mrf"
+validate "$work/pins+3.glb"
+node -e '
+  const j = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
+  for (const k of ["steps","nodes","labels","cycles","energy","timings_ms","output"]) if (!(k in j)) process.exit(1);
+  if (j.labels !== 4 || !(j.output.triangles > 0) || Math.abs(j.size_out[0] - j.size_in[0] - 3 * 2.54) > 0.01) process.exit(1);
+' "$work/pins+3.json" && ok || bad "resize --json fields or the grown size are wrong"
+expect 0 "$bin" solve "$work/pins+3.mrf" --json "$work/solve.json"
+node -e '
+  const a = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
+  const b = JSON.parse(require("fs").readFileSync(process.argv[2], "utf8"));
+  if (a.nodes !== b.nodes || a.labels !== b.labels || Math.abs(a.energy - b.energy) > 1e-6 * Math.max(1, a.energy)) process.exit(1);
+' "$work/pins+3.json" "$work/solve.json" && ok || bad "solve of the dumped problem disagrees with resize"
+expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins0.glb" --steps 0
+tris0=$("$bin" info "$work/pins0.glb" --json - | json_field triangles); trisin=$("$bin" info "$work/pins.glb" --json - | json_field triangles)
+[ "$tris0" = "$trisin" ] && ok || bad "--steps 0 changed the triangle count"
+expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-size.glb" --size 30,0,0
+grep -q "nearest achievable with steps" "$work/out" && ok || bad "--size does not say which steps it chose"
+expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-regular.glb" --steps 1 --labels regular
+validate "$work/pins-regular.glb"
+expect_error 5 "limit" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --steps 50 --max-problem 100
+[ ! -e "$work/x.glb" ] && ok || bad "a refused resize left a file"
+expect_error 5 "principal offset" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --steps 1,1
+expect_error 5 "shrink" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --steps -20
+expect 2 "$bin" resize "$work/pins.glb" -o "$work/x.glb"
+"$bin" sample bookshelf -o "$work/shelf.glb" >/dev/null
+expect 0 "$bin" resize "$work/shelf.glb" -o "$work/shelf+.glb" --steps 2,-1 --descriptor fpfh --matcher reduced
+validate "$work/shelf+.glb"
+
+# describe: a tiny point set, SHOT and FPFH rows in input order.
+printf '0 0 0 0 0 1\n0.1 0 0 0 0 1\n0 0.1 0 0 0 1\n0.1 0.1 0 0 0 1\n0.05 0.05 0.05 0 1 0\n5 5 5 0 0 1\n' > "$work/p.xyzn"
+expect 0 "$bin" describe "$work/p.xyzn" --descriptor shot --radius 0.3 -o "$work/p-shot.csv"
+[ "$(wc -l < "$work/p-shot.csv")" = 6 ] && [ "$(head -1 "$work/p-shot.csv" | tr ',' '\n' | wc -l)" = 352 ] && ok || bad "describe shot: wrong CSV shape"
+tail -1 "$work/p-shot.csv" | grep -q "^nan" && ok || bad "describe shot: an isolated point must give a nan row"
+expect 0 "$bin" describe "$work/p.xyzn" --descriptor fpfh --radius 0.3 -o "$work/p-fpfh.csv"
+[ "$(head -1 "$work/p-fpfh.csv" | tr ',' '\n' | wc -l)" = 33 ] && ok || bad "describe fpfh: wrong CSV shape"
+printf '0 0 0 0 0\n' > "$work/bad.xyzn"
+expect_error 3 "bad.xyzn:1:" "$bin" describe "$work/bad.xyzn" --radius 0.3 -o "$work/bad.csv"
+[ ! -e "$work/bad.csv" ] && ok || bad "describe of a bad file left an output"
+
+# Real models: resize by +2 and -1 along the first principal offset, validator-clean.
+if [ -f "$models/MANIFEST.tsv" ] && [ "$mode" = full ]; then
+  while IFS=$'\t' read -r file _; do
+    [ "$file" = file ] && continue
+    n=$("$bin" analyze "$models/$file" --json - | json_field principal_offsets | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8")).length)')
+    if [ "$n" -lt 1 ]; then echo "NOTE: $file: no principal offset found, resize skipped"; continue; fi
+    for k in 2 -1; do
+      expect 0 "$bin" resize "$models/$file" -o "$work/resized$k-$file" --steps "$k"
+      validate "$work/resized$k-$file"
+    done
+  done < "$models/MANIFEST.tsv"
 fi
 
 # Bad input: a clear error, the documented exit code, and no output file.

@@ -1,0 +1,114 @@
+// restitch analyze IN [...]   and   restitch describe POINTS.xyzn [...]
+#include <cmath>
+#include <cstdio>
+
+#include "cli.hpp"
+#include "restitch/descriptor/xyzn.hpp"
+#include "restitch/io/gltf.hpp"
+#include "restitch/io/json_report.hpp"
+#include "restitch/runtime.hpp"
+
+namespace restitch::cli {
+
+Result<Analysis> load_and_analyze(const std::string& input, const std::string& descriptor, const std::string& matcher,
+                                  Mesh& mesh, bool quiet) {
+  GltfLoadReport report;
+  Result<Mesh> loaded = load_gltf(input, &report);
+  if (!loaded) return loaded.status();
+  if (!quiet)
+    for (const std::string& w : report.warnings) std::fprintf(stderr, "restitch: warning: %s\n", w.c_str());
+  mesh = std::move(*loaded);
+  return analyze_named(mesh, descriptor, matcher, terminal_progress());
+}
+
+void add_policy_options(CLI::App* cmd, std::string& descriptor, std::string& matcher) {
+  cmd->add_option("--descriptor", descriptor, "descriptor policy")->check(CLI::IsMember(descriptor_names()))->capture_default_str();
+  cmd->add_option("--matcher", matcher, "matcher policy: brute_force (exact) or reduced (fast)")
+      ->check(CLI::IsMember(matcher_names()))
+      ->capture_default_str();
+}
+
+void print_analysis(const std::string& input, const Analysis& a) {
+  auto v3 = [](const Eigen::Vector3d& v) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "(%.5g, %.5g, %.5g)", v.x(), v.y(), v.z());
+    return std::string(buf);
+  };
+  std::printf("%s\n", input.c_str());
+  std::printf("  %lld features (%s descriptors, %s matching), %zu histogram peaks, %zu dominant offsets\n",
+              (long long)a.features.points.rows(), a.descriptor_name.c_str(), a.matcher_name.c_str(),
+              a.histogram_peaks, a.dominant.size());
+  std::printf("  sparsity: %.1f%% of offsets in the top 7%% of bins, %.1f%% in the top 20%%\n", 100 * a.sparsity.top7,
+              100 * a.sparsity.top20);
+  const auto principal = a.principal_model_units();
+  if (principal.empty()) {
+    std::printf("  no repetition found: zero principal offsets, nothing to resize along\n");
+  } else {
+    for (std::size_t i = 0; i < principal.size(); ++i)
+      std::printf("  principal offset %zu: %s, length %.5g\n", i + 1, v3(principal[i]).c_str(), principal[i].norm());
+  }
+  for (int c = 0; c < 3; ++c)
+    if (a.lattice.dummy[c]) std::printf("  dummy direction: %s (not resized)\n", v3(a.lattice.A.col(c)).c_str());
+  std::printf("  lattice: %d x %d x %d cells\n", a.lattice.cells[0], a.lattice.cells[1], a.lattice.cells[2]);
+  double total = 0;
+  std::string stages;
+  for (const auto& [stage, ms] : a.timings_ms) {
+    total += ms;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s%s %.0f", stages.empty() ? "" : ", ", stage.c_str(), ms);
+    stages += buf;
+  }
+  std::printf("  time: %.0f ms (%s)\n", total, stages.c_str());
+}
+
+void register_analysis_commands(CLI::App& app, int* exit_code) {
+  {
+    struct Args { std::string input, json, descriptor = "shot", matcher = "brute_force"; };
+    auto args = std::make_shared<Args>();
+    CLI::App* cmd = app.add_subcommand("analyze", "Find how a model repeats: dominant and principal offsets, and its lattice");
+    cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
+    add_policy_options(cmd, args->descriptor, args->matcher);
+    cmd->add_option("--json", args->json, "also write the analysis as JSON to FILE, or - for standard output");
+    cmd->callback([args, exit_code] {
+      Mesh mesh;
+      Result<Analysis> a = load_and_analyze(args->input, args->descriptor, args->matcher, mesh, args->json == "-");
+      if (!a) { *exit_code = fail(a.status()); return; }
+      if (args->json != "-") print_analysis(args->input, *a);
+      if (!args->json.empty())
+        if (Status s = write_json(analysis_json(*a), args->json); !s) { *exit_code = fail(s, true); return; }
+      *exit_code = exit_ok;
+    });
+  }
+  {
+    struct Args { std::string input, output, descriptor = "shot"; double radius = 0; };
+    auto args = std::make_shared<Args>();
+    CLI::App* cmd = app.add_subcommand(
+        "describe", "Compute SHOT or FPFH descriptors of a point set: x y z nx ny nz lines in, one CSV row per point out");
+    cmd->add_option("input", args->input, "points with normals, one 'x y z nx ny nz' line each")->required();
+    cmd->add_option("--descriptor", args->descriptor, "descriptor")->check(CLI::IsMember(descriptor_names()))->capture_default_str();
+    cmd->add_option("--radius", args->radius, "support radius, in the file's units")->required();
+    cmd->add_option("-o,--output", args->output, "output CSV (NaN rows written as nan)")->required();
+    cmd->callback([args, exit_code] {
+      Result<PointSet> points = read_xyzn(args->input);
+      if (!points) { *exit_code = fail(points.status()); return; }
+      DescriptorMatrix out;
+      Status s;
+      if (args->descriptor == "shot") {
+        ShotDescriptor d;
+        d.radius = float(args->radius);
+        s = d.compute(*points, *points, out, terminal_progress());
+      } else {
+        FpfhDescriptor d;
+        d.radius = float(args->radius);
+        s = d.compute(*points, *points, out, terminal_progress());
+      }
+      if (!s) { *exit_code = fail(s); return; }
+      if (Status w = write_descriptor_csv(args->output, out); !w) { *exit_code = fail(w, true); return; }
+      std::printf("wrote %s: %lld %s descriptors of %lld values\n", args->output.c_str(), (long long)out.rows(),
+                  args->descriptor.c_str(), (long long)out.cols());
+      *exit_code = exit_ok;
+    });
+  }
+}
+
+}  // namespace restitch::cli

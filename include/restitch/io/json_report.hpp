@@ -1,0 +1,74 @@
+// restitch/io/json_report.hpp - analysis and retarget reports as JSON.
+//
+// The one definition of the fields `restitch analyze --json` and
+// `restitch resize --json` print and the web demo exposes, so all three agree.
+// Lengths are in model units.
+//
+// analysis_json: scale (normalized units per model unit), features,
+//   dominant_offsets [{offset [x,y,z], votes, overlap, significant}],
+//   principal_offsets [[x,y,z]...] in order, dummy_directions [[x,y,z]...],
+//   lattice_cells [U,V,W], lattice_origin [x,y,z], sparsity {top7, top20, bins},
+//   descriptor, matcher, timings_ms {stage: ms}.
+// retarget_json: steps, grid_steps, nodes, labels, edges, cycles, energy,
+//   non_metric, cells_in, cells_out, size_in, size_out, timings_ms,
+//   output {vertices, triangles}.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "restitch/analysis.hpp"
+#include "restitch/retarget.hpp"
+
+namespace restitch {
+
+namespace detail {
+inline nlohmann::json vec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+inline nlohmann::json arr3(const Eigen::Array3i& v) { return {v[0], v[1], v[2]}; }
+}  // namespace detail
+
+inline nlohmann::json analysis_json(const Analysis& a) {
+  nlohmann::json j;
+  j["scale"] = a.normalization.scale;
+  j["features"] = a.features.points.rows();
+  j["dominant_offsets"] = nlohmann::json::array();
+  for (const DominantOffset& d : a.dominant)
+    j["dominant_offsets"].push_back({{"offset", detail::vec3(a.normalization.to_model_offset(d.offset))},
+                                     {"votes", d.votes},
+                                     {"overlap", d.overlap},
+                                     {"significant", d.significant}});
+  j["principal_offsets"] = nlohmann::json::array();
+  for (const Eigen::Vector3d& v : a.principal_model_units()) j["principal_offsets"].push_back(detail::vec3(v));
+  j["dummy_directions"] = nlohmann::json::array();
+  for (int c = 0; c < 3; ++c)
+    if (a.lattice.dummy[c]) j["dummy_directions"].push_back(detail::vec3(a.lattice.A.col(c)));
+  j["lattice_axes"] = nlohmann::json::array();
+  for (int c = 0; c < 3; ++c) j["lattice_axes"].push_back(detail::vec3(a.lattice.A.col(c)));
+  j["lattice_cells"] = detail::arr3(a.lattice.cells);
+  j["lattice_origin"] = detail::vec3(a.lattice.origin);
+  j["sparsity"] = {{"top7", a.sparsity.top7}, {"top20", a.sparsity.top20}, {"bins", a.sparsity.bins}};
+  j["descriptor"] = a.descriptor_name;
+  j["matcher"] = a.matcher_name;
+  j["timings_ms"] = a.timings_ms;
+  return j;
+}
+
+inline nlohmann::json retarget_json(const RetargetReport& r) {
+  nlohmann::json j;
+  j["steps"] = detail::arr3(r.steps);
+  j["grid_steps"] = detail::arr3(r.grid_steps);
+  j["nodes"] = r.nodes;
+  j["labels"] = r.labels;
+  j["edges"] = r.edges;
+  j["cycles"] = r.cycles;
+  j["energy"] = r.energy;
+  j["non_metric"] = r.non_metric;
+  j["cells_in"] = detail::arr3(r.in_cells);
+  j["cells_out"] = detail::arr3(r.out_cells);
+  j["size_in"] = detail::vec3(r.size_in);
+  j["size_out"] = detail::vec3(r.size_out);
+  j["timings_ms"] = r.timings_ms;
+  j["output"] = {{"vertices", r.vertices_out}, {"triangles", r.triangles_out}};
+  return j;
+}
+
+}  // namespace restitch

@@ -1,0 +1,112 @@
+// restitch/runtime.hpp - choosing among the shipped policies at run time.
+//
+// The library's policies are template parameters; a program that lets its
+// user pick one (the CLI's --descriptor, the web page's dropdowns) needs a
+// closed set of instantiations to choose from. This header is that set:
+// names in, the matching instantiation called. It is a std::variant / a
+// switch over names, not a virtual base class (style.md).
+//
+//   descriptors  "shot" (default), "fpfh"
+//   matchers     "brute_force" (default, exact), "reduced" (fast, exact re-ranking)
+//   label spaces "lattice" (default), "regular" (the paper's baseline)
+//
+// An unknown name is an invalid_argument Status listing the known ones.
+#pragma once
+
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "restitch/analysis.hpp"
+#include "restitch/retarget.hpp"
+
+namespace restitch {
+
+inline const std::vector<std::string>& descriptor_names() {
+  static const std::vector<std::string> n{"shot", "fpfh"};
+  return n;
+}
+inline const std::vector<std::string>& matcher_names() {
+  static const std::vector<std::string> n{"brute_force", "reduced"};
+  return n;
+}
+inline const std::vector<std::string>& label_space_names() {
+  static const std::vector<std::string> n{"lattice", "regular"};
+  return n;
+}
+
+namespace detail {
+inline Status unknown_name(const char* what, const std::string& name, const std::vector<std::string>& known) {
+  std::string list;
+  for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+  return error(StatusCode::invalid_argument, "unknown " + std::string(what) + " '" + name + "' (known: " + list + ")");
+}
+template <class D, class M>
+Result<Analysis> analyze_with(const Mesh& mesh, const Progress& progress) {
+  AnalysisOptions<D, M> options;
+  return analyze(mesh, options, progress);
+}
+template <class D>
+Result<Analysis> analyze_matcher(const Mesh& mesh, const std::string& matcher, const Progress& progress) {
+  if (matcher == "brute_force") return analyze_with<D, BruteForceMatcher>(mesh, progress);
+  if (matcher == "reduced") return analyze_with<D, ReducedMatcher>(mesh, progress);
+  return unknown_name("matcher", matcher, matcher_names());
+}
+}  // namespace detail
+
+/// analyze() with the descriptor and matcher named at run time, default options otherwise.
+inline Result<Analysis> analyze_named(const Mesh& mesh, const std::string& descriptor = "shot",
+                                      const std::string& matcher = "brute_force", const Progress& progress = {}) {
+  if (descriptor == "shot") return detail::analyze_matcher<ShotDescriptor>(mesh, matcher, progress);
+  if (descriptor == "fpfh") return detail::analyze_matcher<FpfhDescriptor>(mesh, matcher, progress);
+  return detail::unknown_name("descriptor", descriptor, descriptor_names());
+}
+
+/// A Retargeter whose label space is chosen at run time.
+class AnyRetargeter {
+ public:
+  /// Builds the retargeter; check status() before use.
+  AnyRetargeter(const Mesh& mesh, const Analysis& analysis, const std::string& label_space = "lattice",
+                const RetargetOptions& options = {}) {
+    if (label_space == "lattice")
+      r_.emplace<Retargeter<LatticeLabels>>(mesh, analysis, options);
+    else if (label_space == "regular")
+      r_.emplace<Retargeter<RegularLabels>>(mesh, analysis, options);
+    else
+      status_ = detail::unknown_name("label space", label_space, label_space_names());
+  }
+  Status status() const {
+    if (!status_) return status_;
+    return std::visit([](const auto& r) -> Status {
+      if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>) return {};
+      else return r.status();
+    }, r_);
+  }
+  Result<RetargetResult> retarget(const Eigen::Array3i& steps, const Progress& progress = {}) {
+    RESTITCH_TRY(status());
+    return std::visit([&](auto& r) -> Result<RetargetResult> {
+      if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>) return error(StatusCode::internal, "no retargeter");
+      else return r.retarget(steps, progress);
+    }, r_);
+  }
+  Result<SeamMrf> labeling_problem(const Eigen::Array3i& steps) {
+    RESTITCH_TRY(status());
+    return std::visit([&](auto& r) -> Result<SeamMrf> {
+      if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>) return error(StatusCode::internal, "no retargeter");
+      else return r.labeling_problem(steps);
+    }, r_);
+  }
+  Result<Eigen::Array3i> steps_for_size(const Eigen::Vector3d& size) const {
+    RESTITCH_TRY(status());
+    return std::visit([&](const auto& r) -> Result<Eigen::Array3i> {
+      if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>) return error(StatusCode::internal, "no retargeter");
+      else return r.steps_for_size(size);
+    }, r_);
+  }
+
+ private:
+  Status status_;
+  std::variant<std::monostate, Retargeter<LatticeLabels>, Retargeter<RegularLabels>> r_;
+};
+
+}  // namespace restitch
