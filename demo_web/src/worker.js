@@ -1,0 +1,99 @@
+// worker.js - the module Web Worker that runs restitch for the page, so the page never freezes.
+//
+// Protocol (every request carries an `id`; every answer echoes it):
+//   page -> worker                                     worker -> page
+//   {type: 'catalog'}                                  {type: 'catalog', samples, policies, version}
+//   {type: 'load', file: {name, bytes}}                {type: 'loaded', info, mesh, glb}
+//   {type: 'load', sample: {name, params}}             (same)
+//   {type: 'analyze', descriptor, matcher}             {type: 'progress', stage, fraction} ..., then
+//                                                      {type: 'analyzed', analysis, extras, ms}
+//   {type: 'retarget', steps: [a, b, c], labelSpace}   {type: 'retargeted', steps, result, mesh, ms}
+//   {type: 'save', which: 'result' | 'input'}          {type: 'saved', bytes}
+//   any failure                                        {type: 'error', request, code, message}
+// `mesh` is {positions, normals?, uvs?, colors?, indices, groups} (typed arrays
+// transferred, not copied); `glb` is the model as .glb bytes, from which the
+// page takes the materials and textures. Requests run one at a time in order;
+// analysis cannot be interrupted, so the page replaces the worker to cancel it.
+import { loadRestitch } from './restitch.js';
+
+const ready = loadRestitch();
+let session = null;
+
+function buffersOf(obj, out = []) {
+  if (!obj || typeof obj !== 'object') return out;
+  if (ArrayBuffer.isView(obj)) {
+    if (!out.includes(obj.buffer)) out.push(obj.buffer);
+    return out;
+  }
+  for (const v of Array.isArray(obj) ? obj : Object.values(obj)) buffersOf(v, out);
+  return out;
+}
+
+function post(message) {
+  self.postMessage(message, buffersOf(message));
+}
+
+function fail(msg, r) {
+  post({ type: 'error', id: msg.id, request: msg.type, code: r.code, message: r.message });
+}
+
+function handle(restitch, msg) {
+  switch (msg.type) {
+    case 'catalog':
+      post({ type: 'catalog', id: msg.id, samples: restitch.samples(), policies: restitch.policies(),
+             version: restitch.version() });
+      return;
+    case 'load': {
+      const r = msg.file ? session.loadGltf(new Uint8Array(msg.file.bytes))
+                         : session.loadSample(msg.sample.name, msg.sample.params || {});
+      if (!r.ok) return fail(msg, r);
+      const glb = session.saveGlb('input');
+      post({ type: 'loaded', id: msg.id, info: r, mesh: session.mesh('input'), glb: glb.ok ? glb.bytes : null });
+      return;
+    }
+    case 'analyze': {
+      const t0 = performance.now();
+      const r = session.analyze(msg.descriptor, msg.matcher, (stage, fraction) =>
+        self.postMessage({ type: 'progress', id: msg.id, stage, fraction }));
+      if (!r.ok) return fail(msg, r);
+      post({ type: 'analyzed', id: msg.id, analysis: r.analysis, extras: r.extras, ms: performance.now() - t0 });
+      return;
+    }
+    case 'retarget': {
+      const t0 = performance.now();
+      const [a, b, c] = msg.steps;
+      const r = session.retarget(a, b, c, msg.labelSpace);
+      if (!r.ok) return fail(msg, r);
+      const mesh = session.mesh('result');
+      post({ type: 'retargeted', id: msg.id, steps: msg.steps, labelSpace: msg.labelSpace, result: r, mesh,
+             ms: performance.now() - t0 });
+      return;
+    }
+    case 'save': {
+      const r = session.saveGlb(msg.which || 'result');
+      if (!r.ok) return fail(msg, r);
+      post({ type: 'saved', id: msg.id, bytes: r.bytes });
+      return;
+    }
+    default:
+      fail(msg, { code: 'invalid_argument', message: `unknown request '${msg.type}'` });
+  }
+}
+
+self.onmessage = async (event) => {
+  let restitch;
+  try {
+    restitch = await ready;
+  } catch (e) {
+    post({ type: 'error', id: event.data.id, request: event.data.type, code: 'internal',
+           message: `the WebAssembly module did not load: ${e && e.message ? e.message : e}` });
+    return;
+  }
+  if (!session) session = new restitch.Session();
+  try {
+    handle(restitch, event.data);
+  } catch (e) {  // the bindings never throw; a trap (out of memory, a bug) lands here
+    post({ type: 'error', id: event.data.id, request: event.data.type, code: 'internal',
+           message: `restitch stopped unexpectedly (${e && e.message ? e.message : e}); reload the page` });
+  }
+};

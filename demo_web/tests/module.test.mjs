@@ -1,0 +1,255 @@
+// Node tests of the WebAssembly module (dist/restitch_web.mjs) through src/restitch.js:
+// bytes in, analyze, retarget, .glb bytes out that the Khronos glTF-Validator accepts.
+// Run: node --test demo_web/tests/module.test.mjs (after building the module; tests/run.sh does both).
+import test from 'node:test';
+import assert from 'node:assert/strict';
+import fs from 'node:fs';
+import path from 'node:path';
+import { createRequire } from 'node:module';
+import { fileURLToPath } from 'node:url';
+import { loadRestitch } from '../src/restitch.js';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const require = createRequire(path.join(here, '../package.json'));
+const validator = require('gltf-validator');
+const modelsDir = path.resolve(here, '../../../shared/models');
+const restitch = await loadRestitch();
+
+async function validate(bytes) {
+  const report = await validator.validateBytes(bytes, { maxIssues: 50 });
+  return report.issues;
+}
+
+// The JSON chunk of a .glb.
+function glbJson(bytes) {
+  const dv = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  assert.equal(dv.getUint32(0, true), 0x46546c67, 'glTF magic');
+  const length = dv.getUint32(12, true);
+  return JSON.parse(new TextDecoder().decode(bytes.subarray(20, 20 + length)));
+}
+
+// A minimal .gltf (JSON, data-URI buffer) holding one tetrahedron: nothing repeats in it.
+function tetrahedronGltf() {
+  const pos = new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1]);
+  const idx = new Uint16Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]);
+  const bin = new Uint8Array(pos.byteLength + idx.byteLength);
+  bin.set(new Uint8Array(pos.buffer), 0);
+  bin.set(new Uint8Array(idx.buffer), pos.byteLength);
+  const gltf = {
+    asset: { version: '2.0' },
+    scene: 0, scenes: [{ nodes: [0] }], nodes: [{ mesh: 0 }],
+    meshes: [{ primitives: [{ attributes: { POSITION: 0 }, indices: 1 }] }],
+    buffers: [{ byteLength: bin.byteLength, uri: `data:application/octet-stream;base64,${Buffer.from(bin).toString('base64')}` }],
+    bufferViews: [{ buffer: 0, byteOffset: 0, byteLength: pos.byteLength },
+                  { buffer: 0, byteOffset: pos.byteLength, byteLength: idx.byteLength }],
+    accessors: [{ bufferView: 0, componentType: 5126, count: 4, type: 'VEC3', min: [0, 0, 0], max: [1, 1, 1] },
+                { bufferView: 1, componentType: 5123, count: 12, type: 'SCALAR' }],
+  };
+  return new TextEncoder().encode(JSON.stringify(gltf));
+}
+
+const near = (a, b, tol) => Math.abs(a - b) <= tol;
+
+// One analysed bookshelf shared by the tests below (analysis is the slow part).
+const shelf = new restitch.Session();
+const shelfInfo = shelf.loadSample('bookshelf', {});
+const progress = [];
+const shelfAnalysis = shelf.analyze('shot', 'brute_force', (stage, f) => progress.push([stage, f]));
+
+test('the module lists its samples and policies', () => {
+  const names = restitch.samples().map((s) => s.name);
+  assert.deepEqual(names, ['bookshelf', 'facade', 'facade_sheared', 'fence', 'pin_header']);
+  const p = restitch.policies();
+  assert.deepEqual(p.descriptors, ['shot', 'fpfh']);
+  assert.deepEqual(p.label_spaces, ['lattice', 'regular']);
+  assert.match(restitch.version(), /^restitch \d+\.\d+\.\d+$/);
+});
+
+test('bad bytes and bad requests give a status in words, never a throw', () => {
+  const s = new restitch.Session();
+  try {
+    let r = s.loadGltf(new Uint8Array([1, 2, 3, 4]));
+    assert.equal(r.ok, false);
+    assert.equal(r.code, 'parse_error');
+    assert.match(r.message, /glTF/);
+    // A .glb header that promises more bytes than there are.
+    const truncated = new Uint8Array(20);
+    new DataView(truncated.buffer).setUint32(0, 0x46546c67, true);
+    new DataView(truncated.buffer).setUint32(4, 2, true);
+    new DataView(truncated.buffer).setUint32(8, 4000, true);
+    r = s.loadGltf(truncated);
+    assert.equal(r.ok, false);
+    assert.ok(r.message.length > 10, r.message);
+    r = s.loadSample('no_such_sample', {});
+    assert.equal(r.code, 'invalid_argument');
+    assert.match(r.message, /bookshelf/);
+    r = s.analyze('shot', 'brute_force', null);
+    assert.equal(r.ok, false, 'analysis before any model');
+    assert.equal(s.retarget(1, 0, 0, 'lattice').ok, false, 'retarget before analysis');
+    assert.equal(s.loadSample('bookshelf', { columns: 2 }).ok, true);
+    r = s.analyze('nope', 'brute_force', null);
+    assert.equal(r.code, 'invalid_argument');
+    assert.equal(s.mesh('result').ok, false, 'no result yet');
+  } finally {
+    s.delete();
+  }
+});
+
+test('a sample loads with the size of its parameters', () => {
+  assert.equal(shelfInfo.ok, true);
+  assert.ok(shelfInfo.triangles > 1000 && shelfInfo.triangles < 6000, `${shelfInfo.triangles}`);
+  // Defaults: 4 columns of 0.4 m plus two 0.02 m side panels.
+  assert.ok(near(shelfInfo.bbox_max[0] - shelfInfo.bbox_min[0], 4 * 0.4 + 0.02, 1e-5));
+  const m = shelf.mesh('input');
+  assert.equal(m.positions.length, shelfInfo.vertices * 3);
+  assert.equal(m.indices.length, shelfInfo.triangles * 3);
+  assert.equal(m.groups.reduce((n, g) => n + g.count, 0), m.indices.length, 'draw ranges cover every face once');
+  assert.ok(Math.max(...m.indices) < shelfInfo.vertices);
+});
+
+test('analysis finds the bookshelf generators as principal offsets (model units)', () => {
+  assert.equal(shelfAnalysis.ok, true, shelfAnalysis.message);
+  const a = shelfAnalysis.analysis;
+  for (const key of ['scale', 'features', 'dominant_offsets', 'principal_offsets', 'dummy_directions',
+                     'lattice_cells', 'sparsity', 'timings_ms']) assert.ok(key in a, key);
+  assert.ok(near(a.scale, 2 / 1.62, 1e-6), `scale ${a.scale}`);
+  assert.equal(a.principal_offsets.length, 2);
+  assert.equal(a.dummy_directions.length, 1);
+  const gens = shelfInfo.generators;  // (0.4, 0, 0) and (0, 0.35, 0)
+  for (const g of gens) {
+    const hit = a.principal_offsets.some((v) => [1, -1].some((s) => v.every((x, i) => near(s * x, g[i], 2e-3))));
+    assert.ok(hit, `generator ${g} among ${JSON.stringify(a.principal_offsets)}`);
+  }
+  assert.ok(a.lattice_cells.slice(0, 2).every((c) => c >= 4 && c <= 6), `cells ${a.lattice_cells}`);
+  assert.ok(a.dominant_offsets[0].votes >= a.dominant_offsets.at(-1).votes, 'dominant offsets ranked by votes');
+  // Progress went through every stage, in order, ending at 1.
+  const stages = [...new Set(progress.map(([s]) => s))];
+  for (const s of ['sampling', 'descriptors', 'matching', 'lattice']) assert.ok(stages.includes(s), s);
+  assert.deepEqual(progress.at(-1), ['lattice', 1]);
+  const e = shelfAnalysis.extras;
+  assert.equal(e.descriptor, 'shot');
+  assert.equal(e.match_offsets.length % 3, 0);
+  assert.ok(e.match_offsets.length / 3 > a.features / 2);
+});
+
+test('retarget grows and shrinks by whole repeats, and the .glb validates', async () => {
+  const a = shelfAnalysis.analysis;
+  const v1 = a.principal_offsets[0];
+  const len1 = Math.hypot(...v1);
+  const axis = v1.map(Math.abs).indexOf(Math.max(...v1.map(Math.abs)));
+  for (const k of [1, 2, -1]) {
+    const r = shelf.retarget(k, 0, 0, 'lattice');
+    assert.equal(r.ok, true, r.message);
+    const rep = r.report;
+    assert.ok(near(rep.size_out[axis] - rep.size_in[axis], k * len1, 2e-3), `k=${k}: ${rep.size_out} vs ${rep.size_in}`);
+    assert.equal(rep.triangles_in, shelfInfo.triangles);
+    assert.ok(k > 0 ? rep.triangles_out > rep.triangles_in : rep.triangles_out < rep.triangles_in, `k=${k}`);
+    assert.ok(rep.nodes > 0 && rep.labels === Math.abs(k) + 1, `labels ${rep.labels}`);
+    const m = shelf.mesh('result');
+    assert.equal(m.indices.length, rep.triangles_out * 3);
+    assert.equal(r.face_labels.length, rep.triangles_out);
+    assert.equal(r.cell_labels.length, r.out_cells[0] * r.out_cells[1] * r.out_cells[2]);
+    assert.ok(r.face_labels.every((l) => l >= 0 && l < rep.labels));
+    const glb = shelf.saveGlb('result');
+    assert.equal(glb.ok, true);
+    const issues = await validate(glb.bytes);
+    assert.equal(issues.numErrors, 0, JSON.stringify(issues.messages.slice(0, 5)));
+    // Round trip: the saved bytes load back as the same mesh size.
+    const back = new restitch.Session();
+    const info = back.loadGltf(glb.bytes);
+    back.delete();
+    assert.equal(info.ok, true);
+    assert.equal(info.triangles, rep.triangles_out);
+  }
+  // Steps of zero give the input back; shrinking past one cell and steps along the dummy axis are refused.
+  const same = shelf.retarget(0, 0, 0, 'lattice');
+  assert.equal(same.report.triangles_out, shelfInfo.triangles);
+  const cells = a.lattice_cells[0];
+  const tooSmall = shelf.retarget(-cells, 0, 0, 'lattice');
+  assert.equal(tooSmall.ok, false);
+  assert.match(tooSmall.message, /shrink/);
+  assert.equal(shelf.retarget(0, 0, 1, 'lattice').ok, false);
+  assert.equal(shelf.retarget(1, 0, 0, 'hexagonal').code, 'invalid_argument');
+});
+
+test('the regular baseline needs more nodes for the same request', () => {
+  const lattice = shelf.retarget(1, 0, 0, 'lattice');
+  const regular = shelf.retarget(1, 0, 0, 'regular');
+  assert.equal(regular.ok, true, regular.message);
+  assert.equal(regular.report.label_space, 'regular');
+  assert.ok(regular.report.nodes > lattice.report.nodes, `${regular.report.nodes} vs ${lattice.report.nodes}`);
+  assert.ok(near(regular.report.size_out[0], lattice.report.size_out[0], 0.1 * 1.62 / 2 + 1e-6));
+});
+
+test('the same requests give the same bytes (deterministic)', () => {
+  const s = new restitch.Session();
+  try {
+    s.loadSample('bookshelf', {});
+    s.analyze('shot', 'brute_force', null);
+    assert.equal(s.retarget(2, 1, 0, 'lattice').ok, true);
+    assert.equal(shelf.retarget(2, 1, 0, 'lattice').ok, true);
+    assert.deepEqual(s.saveGlb('result').bytes, shelf.saveGlb('result').bytes);
+  } finally {
+    s.delete();
+  }
+});
+
+test('FPFH with the reduced matcher is a compiled choice too', () => {
+  const s = new restitch.Session();
+  try {
+    s.loadSample('fence', {});
+    const r = s.analyze('fpfh', 'reduced', null);
+    assert.equal(r.ok, true, r.message);
+    assert.equal(r.extras.descriptor, 'fpfh');
+    assert.equal(r.extras.matcher, 'reduced');
+    assert.ok(r.analysis.features > 0);
+    assert.ok(r.analysis.principal_offsets.length >= 1, JSON.stringify(r.analysis.principal_offsets));
+  } finally {
+    s.delete();
+  }
+});
+
+test('a model without repetition: no principal offsets, and a resize is refused in words', () => {
+  const s = new restitch.Session();
+  try {
+    const info = s.loadGltf(tetrahedronGltf());
+    assert.equal(info.ok, true, info.message);
+    assert.equal(info.triangles, 4);
+    const r = s.analyze('shot', 'brute_force', null);
+    assert.equal(r.ok, true, r.message);
+    assert.equal(r.analysis.principal_offsets.length, 0);
+    assert.equal(r.analysis.dummy_directions.length, 3);
+    const t = s.retarget(1, 0, 0, 'lattice');
+    assert.equal(t.ok, false);
+    assert.equal(t.code, 'no_repetition');
+    assert.match(t.message, /repetition/);
+  } finally {
+    s.delete();
+  }
+});
+
+const screen = path.join(modelsDir, 'scopia_japanese_style_screen.glb');
+test('a textured real model keeps its textures through a resize', { skip: !fs.existsSync(screen) && `${screen} is absent` }, async () => {
+  const bytes = new Uint8Array(fs.readFileSync(screen));
+  const s = new restitch.Session();
+  try {
+    const info = s.loadGltf(bytes);
+    assert.equal(info.ok, true, info.message);
+    const a = s.analyze('shot', 'brute_force', null);
+    assert.equal(a.ok, true, a.message);
+    assert.ok(a.analysis.principal_offsets.length >= 1, 'the lattice rails repeat');
+    const r = s.retarget(1, 0, 0, 'lattice');
+    assert.equal(r.ok, true, r.message);
+    assert.notEqual(r.report.triangles_out, r.report.triangles_in);
+    const out = s.saveGlb('result').bytes;
+    const issues = await validate(out);
+    assert.equal(issues.numErrors, 0, JSON.stringify(issues.messages.slice(0, 5)));
+    const jin = glbJson(bytes), jout = glbJson(out);
+    assert.ok((jin.images || []).length >= 1);
+    assert.equal((jout.images || []).length, jin.images.length, 'images kept');
+    assert.equal((jout.textures || []).length, (jin.textures || []).length, 'textures kept');
+    assert.equal((jout.materials || []).length, (jin.materials || []).length, 'materials kept');
+  } finally {
+    s.delete();
+  }
+});
