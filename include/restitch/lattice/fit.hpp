@@ -1,0 +1,173 @@
+// restitch/lattice/fit.hpp - fits the lattice of principal offsets to a mesh: canonical space, grid phase, cells.
+//
+// method.md 1.7. Given the three axes (principal offsets and dummies,
+// normalized units; see offsets/principal.hpp), A = [v1 v2 v3] and canonical
+// coordinates c = A^-1 (p - o). This header chooses the origin o, i.e. the
+// phase of the cell planes c_a = integer along each axis, and counts the
+// input cells. The result is a restitch::Lattice in MODEL units.
+//
+// Grid phase (restitch's addition; the paper leaves it open): cell
+// boundaries should cut as little surface as possible, so that a cell holds
+// whole parts and seams fall in gaps. Per axis a, independently:
+//  * Let m_a be the minimum canonical coordinate of the mesh vertices. The
+//    candidate phases are phi_k = k / K, k = 0 .. K-1 (K = 64), i.e. planes
+//    c_a = m_a + phi_k + n for all integers n.
+//  * The cost of a phase is the number of dense surface samples within a band
+//    of half-width `band` (normalized length, default one dense spacing,
+//    0.02) of any of its planes, measured as true distance to the plane. It
+//    estimates the surface area in the band: about 2 * band * (length of the
+//    cut) for surface crossing the plane, and the whole area of a face lying
+//    in or next to the plane, so a plane that grazes or coincides with a face
+//    (which makes clipping fragile) costs as much as one that cuts through it.
+//  * The phase is the minimum cost. Ties (common: every plane in an empty gap
+//    costs 0): the centre of the widest circular run of consecutive
+//    candidates at the minimum cost (lower index for an even-length run);
+//    among equally wide runs, the one starting at the smallest index; if every
+//    candidate costs the same, phase 0. So seams sit in the middle of gaps.
+//
+// Cells: along axis a the boundaries are the planes m_a + phi + n. Cell 0
+// starts at the last boundary at or below m_a, and the cells end at the first
+// boundary at or above the maximum M_a of the vertices' canonical coordinates.
+// End slivers: if the geometry in the first (last) cell fills less than
+// `sliver` (0.5) of its width, that cell is dropped and its geometry belongs
+// to its neighbour (the stitcher clamps canonical coordinates < 0 into cell 0
+// and >= cells[a] into the last cell). So no cell is less than half full of
+// geometry along its axis, and an end cell holds at most 1.5 cells of it (for
+// example, the side panel of a shelf joins the end compartment). An axis keeps
+// at least one cell. Dummy axes are treated exactly like real ones, with their
+// own length (0.2 normalized).
+//
+// Contract: `mesh` passes restitch::validate; `norm` is the analysis's
+// normalization; `dense` holds normalized surface samples (may be empty: then
+// every phase costs 0 and phase 0 is used); `axes.axes` are linearly
+// independent (principal offsets are >= 60 degrees apart and dummies are
+// orthogonal to them). Cost: O(#dense + #V + #F) plus O(K) per axis.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "restitch/descriptor/descriptor.hpp"
+#include "restitch/lattice/lattice.hpp"
+#include "restitch/mesh.hpp"
+#include "restitch/normalization.hpp"
+#include "restitch/offsets/principal.hpp"
+#include "restitch/status.hpp"
+
+namespace restitch {
+
+struct LatticeFitOptions {
+  int phase_candidates = 64;  ///< K, candidate phases per axis
+  double band = 0.02;         ///< half-width of the band around a cell plane, normalized length
+  double sliver = 0.5;        ///< an end cell filled less than this share along its axis joins its neighbour
+};
+
+/// The fitted lattice with the normalized-unit view and diagnostics.
+struct LatticeFit {
+  Lattice lattice;                                              ///< model units
+  Eigen::Matrix3d A_normalized = Eigen::Matrix3d::Identity();   ///< columns: the axes, normalized units
+  Eigen::Vector3d origin_normalized = Eigen::Vector3d::Zero();  ///< canonical (0,0,0), normalized space
+  Eigen::Array3d phase = Eigen::Array3d::Zero();                ///< chosen phi per axis, in [0, 1)
+  Eigen::Array3d cut_share = Eigen::Array3d::Zero();            ///< share of dense samples in the chosen bands
+};
+
+namespace detail {
+
+/// Index of the chosen candidate given integer costs (the tie rule in the header).
+inline int choose_phase(const std::vector<std::size_t>& cost) {
+  const int K = int(cost.size());
+  const std::size_t best = *std::min_element(cost.begin(), cost.end());
+  if (std::all_of(cost.begin(), cost.end(), [&](std::size_t c) { return c == best; })) return 0;
+  int best_start = -1, best_len = 0;
+  for (int s = 0; s < K; ++s) {
+    // a run starts at s if s is minimal and its circular predecessor is not
+    if (cost[std::size_t(s)] != best || cost[std::size_t((s + K - 1) % K)] == best) continue;
+    int len = 0;
+    while (len < K && cost[std::size_t((s + len) % K)] == best) ++len;
+    if (len > best_len) best_len = len, best_start = s;
+  }
+  return (best_start + (best_len - 1) / 2) % K;
+}
+
+/// Smallest integer n with n >= x, treating x within 1e-9 of an integer as that integer.
+inline long ceil_tolerant(double x) {
+  const double r = std::round(x);
+  return std::abs(x - r) <= 1e-9 ? long(r) : long(std::ceil(x));
+}
+
+}  // namespace detail
+
+/// Fits the lattice (see header). Errors: invalid options or a singular axis
+/// matrix (invalid_argument); a mesh without referenced vertices (invalid_mesh).
+inline Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& norm, const PointSet& dense,
+                                      const PrincipalOffsets& axes, const LatticeFitOptions& options = {}) {
+  if (options.phase_candidates < 1 || options.phase_candidates > 4096)
+    return error(StatusCode::invalid_argument, "the number of candidate phases must be between 1 and 4096");
+  if (!(options.band >= 0) || !std::isfinite(options.band))
+    return error(StatusCode::invalid_argument, "the cut band half-width must be a non-negative finite length");
+  if (!(options.sliver >= 0 && options.sliver <= 1))
+    return error(StatusCode::invalid_argument, "the sliver share must lie in [0, 1]");
+  LatticeFit fit;
+  Eigen::Matrix3d A;
+  for (int a = 0; a < 3; ++a) A.col(a) = axes.axes[std::size_t(a)];
+  Eigen::FullPivLU<Eigen::Matrix3d> lu(A);
+  if (!A.allFinite() || !lu.isInvertible() || std::abs(A.determinant()) < 1e-12)
+    return error(StatusCode::invalid_argument, "the lattice axes are not linearly independent");
+  const Eigen::Matrix3d Ainv = lu.inverse();
+
+  // Canonical extent of the referenced vertices (relative to normalized origin 0).
+  Eigen::Array3d lo = Eigen::Array3d::Constant(INFINITY), hi = Eigen::Array3d::Constant(-INFINITY);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d p = norm.to_normalized(mesh.V.row(mesh.F(f, k)).cast<double>().transpose());
+      const Eigen::Array3d c = (Ainv * p).array();
+      lo = lo.min(c);
+      hi = hi.max(c);
+    }
+  if (!(lo <= hi).all()) return error(StatusCode::invalid_mesh, "the mesh has no triangles to fit a lattice to");
+
+  const int K = options.phase_candidates;
+  Eigen::Array3i cells;
+  Eigen::Array3d start;
+  for (int a = 0; a < 3; ++a) {
+    // Phase: count samples near the planes of each candidate.
+    const double row_norm = Ainv.row(a).norm();  // canonical units per normalized length
+    const double h = options.band * row_norm;    // band half-width, canonical units
+    std::vector<std::size_t> cost(std::size_t(K), 0);
+    if (h < 0.5) {
+      for (Eigen::Index i = 0; i < dense.points.rows(); ++i) {
+        const double c = Ainv.row(a).dot(dense.points.row(i).cast<double>().transpose()) - lo[a];
+        const double u = c - std::floor(c);  // in [0, 1)
+        const long k_lo = long(std::ceil((u - h) * K)), k_hi = long(std::floor((u + h) * K));
+        for (long k = k_lo; k <= k_hi && k < k_lo + K; ++k) ++cost[std::size_t(((k % K) + K) % K)];
+      }
+    }
+    const int k = detail::choose_phase(cost);
+    fit.phase[a] = double(k) / K;
+    fit.cut_share[a] = dense.points.rows() ? double(cost[std::size_t(k)]) / double(dense.points.rows()) : 0.0;
+
+    // Cells: boundaries at s0 + n.
+    const double s0 = lo[a] + fit.phase[a];
+    long first = fit.phase[a] > 0 ? -1 : 0;         // last boundary at or below lo
+    long last = detail::ceil_tolerant(hi[a] - s0);  // first boundary at or above hi
+    if (last <= first) last = first + 1;
+    const double low_fill = (s0 + double(first + 1)) - lo[a];
+    const double high_fill = hi[a] - (s0 + double(last - 1));
+    if (last - first > 1 && low_fill < options.sliver) ++first;
+    if (last - first > 1 && high_fill < options.sliver) --last;
+    start[a] = s0 + double(first);
+    cells[a] = int(last - first);
+  }
+  fit.A_normalized = A;
+  fit.origin_normalized = A * start.matrix();
+  fit.lattice.A = A / norm.scale;
+  fit.lattice.origin = norm.to_model(fit.origin_normalized);
+  fit.lattice.cells = cells;
+  fit.lattice.dummy = axes.dummy;
+  return fit;
+}
+
+}  // namespace restitch

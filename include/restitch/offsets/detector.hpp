@@ -1,0 +1,251 @@
+// restitch/offsets/detector.hpp - the offset-detector policy contract and the default HistogramOffsetDetector.
+//
+// An offset detector turns the evidence of an analysis (dense samples,
+// features, their matches) into *dominant offsets*: translations under which
+// a good part of the model maps onto itself, ranked, each marked significant
+// or not. Principal offsets are then chosen greedily among the significant
+// ones (offsets/principal.hpp). restitch ships the paper's histogram
+// detector; a later autocorrelation detector (method.md 4) plugs in here too.
+//
+// The contract (checked by `is_offset_detector_v<T>`; the analysis
+// static_asserts it with a readable message):
+//
+//   struct MyDetector {
+//     // A short, stable name for reports ("histogram").
+//     static constexpr const char* name = "...";
+//     // Fills `out` (overwritten): dominant offsets in normalized units,
+//     // ranked (strongest first), and the sparsity of the evidence. Must not
+//     // throw; returns invalid_argument for inconsistent evidence, cancelled
+//     // when `progress.report` returns false. Deterministic.
+//     restitch::Status detect(const restitch::OffsetEvidence& evidence,
+//                             restitch::OffsetDetection& out,
+//                             const restitch::Progress& progress) const;
+//   };
+//
+// Run-time parameters are members of the policy object.
+//
+// HistogramOffsetDetector (method.md 1.4-1.5):
+//  1. Histogram: one vote per matched feature, v = y - x, bins of 0.05, peaks
+//     by non-maximum suppression with radius 0.15, ranked by mass
+//     (offsets/histogram.hpp). Sparsity of the histogram (Fig. 5).
+//  2. The `max_peaks` (20; the paper reports "about 20 dominant offsets") top
+//     peaks with at least `min_votes` mass are refined by translation-only ICP
+//     of the dense cloud onto itself, from the bin centre, with the mesh
+//     vertices (evidence.anchors) as exact point-to-point anchors
+//     (offsets/refine.hpp). A peak that refines to within the overlap radius
+//     of a stronger one is the same offset and is dropped; so is one that
+//     refines to within tau of 0 (it slid onto the trivial self-match).
+//  3. Significance. A model without repetition must yield no principal
+//     offset, so every peak must earn its place. overlap() is the share of
+//     dense points that land on the surface when shifted (offsets/refine.hpp).
+//     A dominant offset t is significant when all of these hold:
+//     * mass >= min_votes (5). Offsets are longer than tau = 0.15, so a
+//       repeated module is at least 0.15 across, and even one of its faces
+//       holds about (0.15 / 0.06)^2 ~ 6 features at the feature spacing, each
+//       voting for the same offset. Fewer votes are a coincidence of a few
+//       features, not a repeated module.
+//     * overlap(t) >= min_overlap (1/3): shifting n >= 3 copies of a module by
+//       its period maps (n-1)/n >= 2/3 of the repeated part onto itself; 1/3
+//       leaves room for end caps and parts that do not repeat. A chance
+//       coincidence between two unrelated parts maps only faces of one part
+//       that face the same way onto the other, well under half of the
+//       smaller part.
+//     * a peak, not a slide: along its own direction the overlap has a kink
+//       at t: contrast = overlap(t) - (overlap(t - d u) + overlap(t + d u)) / 2
+//       >= min_contrast (0.01), u = t / |t|, d = 2 overlap radii (so no pair
+//       that overlaps at t still overlaps at t +- d u through the same
+//       partner). Sliding convex parts (a plate, a bar, a plain wall) along
+//       themselves overlaps linearly less the longer the slide, so their
+//       second difference is 0 however large they are; a real period is a
+//       strict maximum, its transverse surface overlapping only at t. The
+//       threshold only has to clear the sampling noise of the second
+//       difference on 2048 points (about +-0.005 measured on slides); a wall
+//       with small windows reaches only a few hundredths, so it must stay
+//       this low.
+//     * a pattern, not a pair: overlap(2t) >= overlap(t) / 4. For n copies of
+//       a module, overlap(2t) / overlap(t) = (n-2)/(n-1), at least 1/2 once
+//       there are three copies, but about 0 for two look-alike parts (the two
+//       rails of a fence, two legs): continuing a pair is not resizing a
+//       pattern. (So a structure must repeat at least three times to be
+//       resized along; 1/4 leaves half of the three-copy ratio as margin.)
+//     Insignificant dominant offsets stay in the list (flagged) so a report
+//     can show why a peak was rejected.
+//
+// Units: normalized. Cost: histogram O(#matches); refinement
+// O(max_peaks * (2 * iterations + 5) * 2048 * log #dense) plus k-d tree builds
+// O(#dense log #dense + #anchors log #anchors).
+#pragma once
+
+#include <Eigen/Core>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <map>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "restitch/descriptor/descriptor.hpp"
+#include "restitch/matcher/matcher.hpp"
+#include "restitch/offsets/histogram.hpp"
+#include "restitch/offsets/refine.hpp"
+#include "restitch/progress.hpp"
+#include "restitch/status.hpp"
+
+namespace restitch {
+
+/// What a detector gets to look at (all normalized; references, nothing copied).
+struct OffsetEvidence {
+  const PointSet& dense;              ///< dense surface samples with normals
+  const PointSet& features;           ///< the features that were matched
+  const std::vector<Match>& matches;  ///< one per feature; target -1 = no match
+  double dense_spacing;               ///< the spacing `dense` was sampled at
+  double tau;                         ///< the matcher's minimum offset length
+  const PointSet* anchors = nullptr;  ///< mesh vertices (normalized, with normals) as exact ICP anchors; may be null
+};
+
+/// A dominant offset: a histogram peak after refinement.
+struct DominantOffset {
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();      ///< refined, normalized
+  Eigen::Vector3d bin_center = Eigen::Vector3d::Zero();  ///< the peak bin's centre (where ICP started)
+  std::size_t votes = 0;                                 ///< peak mass (bin and 26 neighbours)
+  std::size_t bin_votes = 0;                             ///< votes in the peak bin alone
+  double overlap = 0;                                    ///< see offsets/refine.hpp
+  double contrast = 0;                                   ///< see the header comment
+  double overlap_double = 0;                             ///< overlap(2 t)
+  double contrast_double = 0;                            ///< contrast at 2 t
+  double double_drift = 0;                               ///< |refine(2 t) - 2 t|
+  int iterations = 0;                                    ///< ICP iterations
+  bool significant = false;
+};
+
+/// A detector's answer.
+struct OffsetDetection {
+  std::vector<DominantOffset> dominant;  ///< ranked, strongest first
+  Sparsity sparsity;
+  std::size_t peaks = 0;                     ///< histogram peaks before the max_peaks cap
+  std::map<std::string, double> timings_ms;  ///< per stage, e.g. "histogram", "refinement"
+};
+
+namespace detail {
+template <class T, class = void>
+struct is_offset_detector : std::false_type {};
+template <class T>
+struct is_offset_detector<
+    T, std::void_t<decltype(T::name), decltype(std::declval<const T&>().detect(std::declval<const OffsetEvidence&>(),
+                                                                               std::declval<OffsetDetection&>(),
+                                                                               std::declval<const Progress&>()))>>
+    : std::bool_constant<std::is_convertible_v<decltype(T::name), const char*> &&
+                         std::is_same_v<decltype(std::declval<const T&>().detect(std::declval<const OffsetEvidence&>(),
+                                                                                 std::declval<OffsetDetection&>(),
+                                                                                 std::declval<const Progress&>())),
+                                        Status>> {};
+
+inline double elapsed_ms(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since).count();
+}
+}  // namespace detail
+
+template <class T>
+inline constexpr bool is_offset_detector_v = detail::is_offset_detector<T>::value;
+
+/// The paper's detector: histogram, non-maximum suppression, ICP refinement, significance (see header).
+struct HistogramOffsetDetector {
+  static constexpr const char* name = "histogram";
+
+  double bin_size = 0.05;
+  double suppression_radius = 0.15;
+  std::size_t max_peaks = 20;
+  std::size_t min_votes = 5;
+  double min_overlap = 1.0 / 3.0;
+  double min_contrast = 0.01;
+  double min_repeat_ratio = 0.25;  ///< overlap(2t) / overlap(t) at least this
+  double max_double_drift = 0.25;  ///< |refine(2t) - 2t| at most this many dense spacings
+  IcpOptions icp{};                ///< `icp.spacing` is replaced by the evidence's dense spacing
+
+  Status detect(const OffsetEvidence& ev, OffsetDetection& out, const Progress& progress) const {
+    out = OffsetDetection{};
+    if (ev.matches.size() != std::size_t(ev.features.size()))
+      return error(StatusCode::invalid_argument, "the detector needs exactly one match per feature");
+    if (ev.dense.normals.rows() != ev.dense.points.rows())
+      return error(StatusCode::invalid_argument, "the dense samples need one normal per point");
+    if (!(ev.dense_spacing > 0) || !std::isfinite(ev.dense_spacing) || !(ev.tau >= 0) || !std::isfinite(ev.tau))
+      return error(StatusCode::invalid_argument, "the dense spacing must be positive and tau non-negative");
+    if (!(max_peaks >= 1 && min_overlap >= 0 && min_overlap <= 1 && std::isfinite(min_contrast) &&
+          min_repeat_ratio >= 0 && std::isfinite(min_repeat_ratio) && max_double_drift >= 0 &&
+          suppression_radius >= 0 && std::isfinite(suppression_radius)))
+      return error(StatusCode::invalid_argument, "HistogramOffsetDetector parameters out of range");
+
+    // 1. Histogram and peaks.
+    auto t0 = std::chrono::steady_clock::now();
+    if (!progress.report("histogram", 0)) return error(StatusCode::cancelled, "cancelled during the offset histogram");
+    std::vector<Eigen::Vector3d> offsets;
+    offsets.reserve(ev.matches.size());
+    for (std::size_t i = 0; i < ev.matches.size(); ++i) {
+      const std::int32_t j = ev.matches[i].target;
+      if (j < 0) continue;
+      if (j >= ev.features.size())
+        return error(StatusCode::invalid_argument,
+                     "match " + std::to_string(i) + " names a feature that does not exist");
+      offsets.push_back(
+          (ev.features.points.row(j) - ev.features.points.row(Eigen::Index(i))).cast<double>().transpose());
+    }
+    OffsetHistogram hist;
+    RESTITCH_TRY(build_offset_histogram(offsets, bin_size, hist));
+    out.sparsity = offset_sparsity(hist);
+    std::vector<HistogramPeak> peaks = find_peaks(hist, suppression_radius);
+    out.peaks = peaks.size();
+    out.timings_ms["histogram"] = detail::elapsed_ms(t0);
+    if (!progress.report("histogram", 1)) return error(StatusCode::cancelled, "cancelled during the offset histogram");
+
+    // 2. Refinement and significance.
+    t0 = std::chrono::steady_clock::now();
+    std::vector<HistogramPeak> todo;
+    for (const HistogramPeak& p : peaks)
+      if (p.mass >= min_votes && todo.size() < max_peaks) todo.push_back(p);
+    if (!todo.empty() && ev.dense.size() > 0) {
+      IcpOptions options = icp;
+      options.spacing = ev.dense_spacing;
+      const SelfAligner aligner(ev.dense, options, ev.anchors);
+      const double radius = options.overlap_radius();
+      for (std::size_t k = 0; k < todo.size(); ++k) {
+        if (!progress.report("refinement", double(k) / double(todo.size())))
+          return error(StatusCode::cancelled, "cancelled during offset refinement");
+        const RefinedOffset r = aligner.refine(todo[k].center);
+        bool duplicate = r.offset.norm() <= ev.tau;  // slid onto the trivial self-match t = 0
+        for (const DominantOffset& d : out.dominant) duplicate = duplicate || (d.offset - r.offset).norm() <= radius;
+        if (duplicate) continue;
+        DominantOffset d;
+        d.offset = r.offset;
+        d.bin_center = todo[k].center;
+        d.votes = todo[k].mass;
+        d.bin_votes = todo[k].votes;
+        d.overlap = r.overlap;
+        d.iterations = r.iterations;
+        // Significance, cheapest tests first (later fields stay 0 once one fails).
+        const auto kink = [&](const Eigen::Vector3d& t, double at_t) {
+          const Eigen::Vector3d step = t.normalized() * (2 * radius);
+          return at_t - 0.5 * (aligner.overlap(t - step) + aligner.overlap(t + step));
+        };
+        bool ok = d.votes >= min_votes && d.overlap >= min_overlap;
+        if (ok) d.contrast = kink(r.offset, r.overlap), ok = d.contrast >= min_contrast;
+        if (ok) {
+          const RefinedOffset r2 = aligner.refine(2 * r.offset);
+          d.double_drift = (r2.offset - 2 * r.offset).norm();
+          d.overlap_double = aligner.overlap(2 * r.offset);
+          ok =
+              d.double_drift <= max_double_drift * ev.dense_spacing && d.overlap_double >= min_repeat_ratio * d.overlap;
+        }
+        if (ok) d.contrast_double = kink(2 * r.offset, d.overlap_double), ok = d.contrast_double >= min_contrast;
+        d.significant = ok;
+        out.dominant.push_back(d);
+      }
+    }
+    out.timings_ms["refinement"] = detail::elapsed_ms(t0);
+    if (!progress.report("refinement", 1)) return error(StatusCode::cancelled, "cancelled during offset refinement");
+    return {};
+  }
+};
+
+}  // namespace restitch

@@ -1,0 +1,183 @@
+// Tests for analysis.hpp: the whole analysis on the sample models (known
+// generators), on a model without repetition, and its contract (validation,
+// cancellation, determinism, timings, policy names).
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "restitch/analysis.hpp"
+#include "restitch/samples/samples.hpp"
+
+using namespace restitch;
+using Eigen::Vector3d;
+
+namespace {
+
+double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
+
+void add_box(Mesh& m, const Vector3d& lo, const Vector3d& hi) {
+  const Eigen::Index base = m.V.rows();
+  m.V.conservativeResize(base + 8, 3);
+  for (int c = 0; c < 8; ++c)
+    m.V.row(base + c) =
+        Eigen::Vector3f(float(c & 1 ? hi.x() : lo.x()), float(c & 2 ? hi.y() : lo.y()), float(c & 4 ? hi.z() : lo.z()));
+  static const int quads[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+  const Eigen::Index f0 = m.F.rows();
+  m.F.conservativeResize(f0 + 12, 3);
+  for (int q = 0; q < 6; ++q) {
+    const auto* k = quads[q];
+    m.F.row(f0 + 2 * q) << std::uint32_t(base + k[0]), std::uint32_t(base + k[1]), std::uint32_t(base + k[2]);
+    m.F.row(f0 + 2 * q + 1) << std::uint32_t(base + k[0]), std::uint32_t(base + k[2]), std::uint32_t(base + k[3]);
+  }
+  m.FG = VectorXu::Zero(m.F.rows());
+  if (m.groups.empty()) m.groups.push_back(Group{});
+}
+
+// A single irregular object: a few boxes of different random sizes at random places.
+Mesh random_boxes(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  Mesh m;
+  const int n = 3 + int(rng() % 4);
+  for (int b = 0; b < n; ++b) {
+    const Vector3d lo(2 * unit(rng), 2 * unit(rng), 2 * unit(rng));
+    const Vector3d size(0.2 + unit(rng), 0.2 + unit(rng), 0.2 + unit(rng));
+    add_box(m, lo, lo + size);
+  }
+  return m;
+}
+
+// True when g equals one of `found` up to sign, within `rel` of its length and `degrees`.
+bool recovered(const Vector3d& g, const std::vector<Vector3d>& found, double rel, double degrees) {
+  for (const Vector3d& f : found) {
+    const Vector3d s = f.dot(g) < 0 ? Vector3d(-f) : f;
+    const double angle = std::acos(std::min(1.0, s.dot(g) / (s.norm() * g.norm()))) * 180.0 / 3.14159265358979323846;
+    if (std::abs(s.norm() - g.norm()) <= rel * g.norm() && angle <= degrees) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("analysis recovers the generators of every sample family", "[analysis][samples]") {
+  const char* families[] = {"bookshelf", "facade", "facade_sheared", "fence", "pin_header"};
+  for (const char* family : families) {
+    DYNAMIC_SECTION(family) {
+      const Result<samples::SampleModel> sample = samples::generate(family);
+      REQUIRE(sample.ok());
+      const auto t0 = std::chrono::steady_clock::now();
+      const Result<Analysis> a = analyze(sample->mesh);
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      REQUIRE(a.ok());
+      WARN(family << ": " << sample->mesh.triangle_count() << " triangles, " << a->features.size() << " features, "
+                  << a->dense.size() << " dense samples, analysis " << ms << " ms");
+      const std::vector<Vector3d> found = a->principal_model_units();
+      for (const Vector3d& g : sample->generators) {
+        INFO("generator " << g.transpose());
+        for (const Vector3d& f : found) INFO("principal " << f.transpose());
+        CHECK(recovered(g, found, 0.005, 1.0));
+      }
+      // One repeat direction for the fence and the pin header, two for the others: exactly.
+      CHECK(found.size() == sample->generators.size());
+      // The lattice agrees with the principal offsets and is usable.
+      const Lattice& L = a->lattice;
+      CHECK(L.principal_count() == int(found.size()));
+      for (std::size_t k = 0; k < found.size(); ++k) CHECK(L.A.col(Eigen::Index(k)).isApprox(found[k], 1e-9));
+      CHECK((L.cells >= 1).all());
+      CHECK(std::abs(L.A.determinant()) > 0);
+      // Along each generator the input spans at least as many cells as it has repeats.
+      for (std::size_t g = 0; g < sample->generators.size(); ++g) {
+        const Vector3d c = L.A.inverse() * sample->generators[g];
+        for (int axis = 0; axis < 3; ++axis)
+          if (std::abs(std::abs(c[axis]) - 1) < 1e-3) CHECK(L.cells[axis] >= sample->modules[g]);
+      }
+    }
+  }
+}
+
+TEST_CASE("analysis on the pin header: lattice cells, timings, names, sparsity", "[analysis]") {
+  const Result<samples::SampleModel> sample = samples::generate("pin_header");
+  REQUIRE(sample.ok());
+  const Result<Analysis> a = analyze(sample->mesh);
+  REQUIRE(a.ok());
+  CHECK(a->lattice.cells[0] == sample->counts[0]);  // one cell per pin (the body ends join the end cells)
+  CHECK(a->lattice.dummy == std::array<bool, 3>{{false, true, true}});
+  for (const char* stage : {"sampling", "descriptors", "matching", "histogram", "refinement", "lattice"})
+    CHECK(a->timings_ms.count(stage) == 1);
+  CHECK(a->descriptor_name == "shot");
+  CHECK(a->matcher_name == "brute_force");
+  CHECK(a->detector_name == "histogram");
+  CHECK(a->descriptors.rows() == a->features.size());
+  CHECK(a->descriptors.cols() == 352);
+  CHECK(a->matches.size() == std::size_t(a->features.size()));
+  CHECK(a->sparsity.top7 > 0);
+  CHECK(a->sparsity.top7 <= a->sparsity.top20);
+  // Sorted by votes, and the principal offset is one of the significant dominant offsets.
+  for (std::size_t i = 1; i < a->dominant.size(); ++i) CHECK(a->dominant[i - 1].votes >= a->dominant[i].votes);
+  REQUIRE(a->axes.source[0] >= 0);
+  CHECK(a->dominant[std::size_t(a->axes.source[0])].significant);
+}
+
+TEST_CASE("a model without repetition yields zero principal offsets", "[analysis]") {
+  for (std::uint64_t seed : {1u, 4u, 12u}) {
+    const Mesh mesh = random_boxes(seed);
+    REQUIRE(validate(mesh).ok());
+    const Result<Analysis> a = analyze(mesh);
+    REQUIRE(a.ok());
+    INFO("seed " << seed);
+    for (const DominantOffset& d : a->dominant)
+      INFO("dominant " << d.offset.transpose() << " votes " << d.votes << " overlap " << d.overlap << " contrast "
+                       << d.contrast << " significant " << d.significant);
+    CHECK(a->principal.empty());
+    CHECK(a->lattice.principal_count() == 0);
+    CHECK(a->lattice.A.isApprox(Eigen::Matrix3d::Identity() * 0.2 / a->normalization.scale));
+    CHECK((a->lattice.cells >= 1).all());
+  }
+}
+
+TEST_CASE("analysis contract: bad input, options, cancellation, determinism, other policies", "[analysis]") {
+  Mesh bad;
+  CHECK(analyze(bad).status().code() == StatusCode::invalid_mesh);
+  Mesh nan_mesh = random_boxes(2);
+  nan_mesh.V(0, 0) = NAN;
+  CHECK(analyze(nan_mesh).status().code() == StatusCode::invalid_mesh);
+
+  const Result<samples::SampleModel> sample = samples::generate("pin_header");
+  REQUIRE(sample.ok());
+  AnalysisOptions<> options;
+  options.dense_spacing = 0;
+  CHECK(analyze(sample->mesh, options).status().code() == StatusCode::invalid_argument);
+
+  for (const char* stop_at : {"sampling", "descriptors", "matching", "histogram", "refinement", "lattice"}) {
+    std::vector<std::string> seen;
+    const Progress cancel([&](std::string_view stage, double) {
+      if (seen.empty() || seen.back() != stage) seen.emplace_back(stage);
+      return stage != stop_at;
+    });
+    INFO("cancel at " << stop_at);
+    CHECK(analyze(sample->mesh, AnalysisOptions<>{}, cancel).status().code() == StatusCode::cancelled);
+    CHECK(seen.back() == stop_at);
+  }
+
+  const Result<Analysis> a = analyze(sample->mesh), b = analyze(sample->mesh);
+  REQUIRE(a.ok());
+  REQUIRE(b.ok());
+  CHECK(a->dense.points == b->dense.points);
+  CHECK(a->matches == b->matches);
+  REQUIRE(a->dominant.size() == b->dominant.size());
+  for (std::size_t i = 0; i < a->dominant.size(); ++i) CHECK(a->dominant[i].offset == b->dominant[i].offset);
+  CHECK(a->lattice.A == b->lattice.A);
+  CHECK(a->lattice.origin == b->lattice.origin);
+
+  // Other policies: the reduced matcher is exact, so it gives the same analysis.
+  AnalysisOptions<ShotDescriptor, ReducedMatcher> reduced;
+  const Result<Analysis> r = analyze(sample->mesh, reduced);
+  REQUIRE(r.ok());
+  CHECK(r->matcher_name == "reduced");
+  CHECK(r->matches == a->matches);
+  CHECK(r->principal == a->principal);
+}
