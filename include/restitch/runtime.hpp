@@ -7,7 +7,7 @@
 // switch over names, not a virtual base class (style.md).
 //
 //   descriptors  "shot" (default), "fpfh"
-//   matchers     "brute_force" (default, exact), "reduced" (fast, exact re-ranking)
+//   matchers     "reduced" (default: PCA candidates, exact re-ranking, same result), "brute_force" (the reference)
 //   label spaces "lattice" (default), "regular" (the paper's baseline)
 //
 // An unknown name is an invalid_argument Status listing the known ones.
@@ -27,7 +27,7 @@ inline const std::vector<std::string>& descriptor_names() {
   return n;
 }
 inline const std::vector<std::string>& matcher_names() {
-  static const std::vector<std::string> n{"brute_force", "reduced"};
+  static const std::vector<std::string> n{"reduced", "brute_force"};
   return n;
 }
 inline const std::vector<std::string>& label_space_names() {
@@ -56,7 +56,7 @@ Result<Analysis> analyze_matcher(const Mesh& mesh, const std::string& matcher, c
 
 /// analyze() with the descriptor and matcher named at run time, default options otherwise.
 inline Result<Analysis> analyze_named(const Mesh& mesh, const std::string& descriptor = "shot",
-                                      const std::string& matcher = "brute_force", const Progress& progress = {}) {
+                                      const std::string& matcher = "reduced", const Progress& progress = {}) {
   if (descriptor == "shot") return detail::analyze_matcher<ShotDescriptor>(mesh, matcher, progress);
   if (descriptor == "fpfh") return detail::analyze_matcher<FpfhDescriptor>(mesh, matcher, progress);
   return detail::unknown_name("descriptor", descriptor, descriptor_names());

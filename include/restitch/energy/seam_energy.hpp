@@ -2,7 +2,12 @@
 //
 // CellDescriptors groups the analysis' feature descriptors by the grid cell
 // their feature lies in (canonical floor, clamped into the grid like the
-// stitcher) and measures the distance between two cells' descriptor sets:
+// stitcher). Only the Poisson-disk features enter the sets, not the mesh
+// vertices: they cover the surface evenly at one spacing whatever the
+// tessellation, so a cell's set describes its geometry rather than how finely
+// it was triangulated (a Hausdorff distance is ruled by its worst point, and a
+// densely tessellated detail would otherwise dominate), and they are few
+// enough that a new pair of cells costs well under a millisecond and measures the distance between two cells' descriptor sets:
 // the Hausdorff distance under the L2 descriptor distance (default), or the
 // mean of nearest distances, symmetrised (an option; not a metric, so the
 // solver's non-metric detection may fire). Distances between two cells are
@@ -58,7 +63,7 @@ class CellDescriptors {
   /// Groups the features of `analysis` by the cells of `grid` (model units).
   CellDescriptors(const Analysis& analysis, const Lattice& grid, SetDistance kind)
       : descriptors_(&analysis.descriptors), cells_(grid.cells), kind_(kind) {
-    const Eigen::Index n = analysis.features.points.rows();
+    const Eigen::Index n = std::min<Eigen::Index>(analysis.features.points.rows(), Eigen::Index(analysis.sampled_features));
     members_.assign(std::size_t(cells_.prod()), {});
     const Eigen::Matrix3d Ainv = grid.A.inverse();
     for (Eigen::Index i = 0; i < n; ++i) {
