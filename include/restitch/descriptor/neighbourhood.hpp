@@ -28,54 +28,29 @@
 //
 // Cost: construction O(P log P); a query O(log P + k) for k candidates.
 //
-// nanoflann 1.4.3 contains `throw` statements, which do not compile with
-// -fno-exceptions (g++ and Emscripten's clang both reject them). When
-// exceptions are disabled this header maps nanoflann's `throw` to std::abort
-// for the duration of the include. None of those throws is reachable from
-// the way restitch uses the tree (the tree is built before any search; an
-// empty tree is never searched); the only real one is out-of-memory.
+// nanoflann 1.4.3 contains `throw` statements (unreachable in the way
+// restitch uses the tree: it is built before any search, an empty tree is
+// never searched), so a build with -fno-exceptions fails inside nanoflann.
+// restitch's builds keep exceptions enabled natively and use Emscripten's
+// default mode, which accepts `throw`; restitch itself never throws.
 //
 // Floating-point contraction: the distance test reproduces PCL only when the
 // compiler does not fuse a*b+c into an FMA. Baseline x86-64 and wasm32 have no
 // FMA instructions; on targets that do, build with -ffp-contract=off.
 #pragma once
 
-// Everything nanoflann.hpp includes, so the `throw` mapping below touches
-// nanoflann's own code only.
 #include <algorithm>
 #include <array>
-#include <cassert>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
-#include <functional>
-#include <istream>
-#include <limits>
-#include <ostream>
-#include <stdexcept>
-#include <unordered_set>
-#include <vector>
-
+#include <nanoflann.hpp>
 #include <string>
+#include <vector>
 
 #include "restitch/descriptor/descriptor.hpp"
 #include "restitch/mesh.hpp"
 #include "restitch/status.hpp"
 
-namespace restitch {
-namespace detail {
-/// Where nanoflann's throws go when exceptions are disabled.
-[[noreturn]] inline void nanoflann_abort() { std::abort(); }
-}  // namespace detail
-}  // namespace restitch
-
-#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
-#include <nanoflann.hpp>
-#else
-#define throw ::restitch::detail::nanoflann_abort(),
-#include <nanoflann.hpp>
-#undef throw
-#endif
 
 namespace restitch {
 namespace detail {
