@@ -4,23 +4,37 @@
 // generated from a bundled sample), its analysis and the retarget state, so a
 // slider move only pays for the retarget itself. JavaScript sees:
 //
-//   version() -> string
+//   version() -> "restitch X.Y.Z"
 //   samples() -> [{name, description, units, parameters: [{name, value, min, max, integer, help}]}]
-//   policies() -> {descriptors: [...], matchers: [...], label_spaces: [...]}
+//   policies() -> {descriptors: [...], matchers: [...], label_spaces: [...]}   (each list: the default first)
 //   new Session()
-//     .loadGltf(Uint8Array)              -> {ok, vertices, triangles, warnings[]} | error
-//     .loadSample(name, {param: value})  -> {ok, vertices, triangles, warnings[], generators} | error
+//     .loadGltf(Uint8Array)              -> {ok, vertices, triangles, bbox_min, bbox_max, warnings[]} | error
+//     .loadSample(name, {param: value})  -> the same plus generators (the sample's true repeats) | error
 //     .analyze(descriptor, matcher, onProgress(stage, fraction)) -> {ok, analysis, extras} | error
-//     .retarget(du, dv, dw, labelSpace)  -> {ok, report, out_cells, grid, label_shifts, cell_labels, face_labels}
-//     .mesh(which)                       -> {positions, normals, uvs, colors, indices, groups[]} ("input"|"result")
+//     .retarget(s1, s2, s3, labelSpace)  -> {ok, report, grid, label_shifts, cell_labels, face_labels} | error
+//     .mesh(which)                       -> {ok, positions, normals?, uvs?, colors?, indices, groups[]} | error
+//                                           (which: "input" | "result")
 //     .saveGlb(which)                    -> {ok, bytes: Uint8Array} | error
 //     .delete()                          (embind: frees the session)
 //   An error is {ok: false, code: "parse_error", message: "..."}; nothing throws.
 //
+// The figures are the library's own, not a copy: `analysis` is exactly what
+// `restitch analyze --json` prints (restitch/io/json_report.hpp, model
+// units) and `report` what `restitch resize --json` prints (retarget_json plus
+// steps_principal and label_space), each converted to a JS object once.
+// `extras` holds what only the page draws: the raw match offsets and the
+// dominant offsets in normalized units (the histogram view), the detector's
+// name and the number of histogram peaks. Policies are chosen by name
+// through restitch/runtime.hpp; the retarget steps s1..s3 are steps along the
+// principal offsets v1..v3 in the order of `analysis.principal_offsets`
+// (restitch::principal_steps), zeros for the ones a model does not have.
+//
 // Contract. Typed arrays handed out are copies (JS owns them; they survive
 // memory growth). `mesh()` orders faces by group and gives one draw range per
-// group ({start, count, material, colors}); `face_labels` is in that same
-// order. Positions are model units. Deterministic: the same calls give the
+// group ({start, count, material, colors, name}); `face_labels` is in that same
+// order. `cell_labels` is in the linear order of the output cells
+// (i + U * (j + V * k), report.cells_out = [U, V, W]); `grid` = {axes, origin}
+// is the label grid in model units. Deterministic: the same calls give the
 // same bytes. No threads.
 //
 // Cost. loadGltf/loadSample: linear in the model. analyze: the analysis (see
@@ -32,21 +46,25 @@
 #include <emscripten/val.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <map>
 #include <memory>
-#include <optional>
 #include <string>
-#include <variant>
+#include <string_view>
 #include <vector>
 
 #include "restitch/analysis.hpp"
 #include "restitch/io/gltf.hpp"
+#include "restitch/io/json_report.hpp"
 #include "restitch/mesh.hpp"
 #include "restitch/retarget.hpp"
+#include "restitch/runtime.hpp"
 #include "restitch/samples/samples.hpp"
+
+#ifndef RESTITCH_VERSION_STRING
+#define RESTITCH_VERSION_STRING "0.0.0"
+#endif
 
 using emscripten::val;
 
@@ -62,6 +80,9 @@ val status_object(const Status& s) {
   return o;
 }
 
+// A JSON report as a JS object: one parse, no field written twice.
+val js_object(const nlohmann::json& j) { return val::global("JSON").call<val>("parse", j.dump()); }
+
 template <class T>
 val typed_array(const char* type, const T* data, std::size_t n) {
   // Copy out of the wasm heap: a view would die with the next memory growth.
@@ -74,20 +95,10 @@ val vec3(const Eigen::Vector3d& v) {
   return a;
 }
 
-// ---- the run-time choice of analysis policies: a closed set of instantiations (style.md) -------------------------
-
-using AnalysisVariant =
-    std::variant<AnalysisOptions<ShotDescriptor, BruteForceMatcher>, AnalysisOptions<ShotDescriptor, ReducedMatcher>,
-                 AnalysisOptions<FpfhDescriptor, BruteForceMatcher>, AnalysisOptions<FpfhDescriptor, ReducedMatcher>>;
-
-std::optional<AnalysisVariant> analysis_options(const std::string& descriptor, const std::string& matcher) {
-  const bool shot = descriptor == "shot", fpfh = descriptor == "fpfh";
-  const bool brute = matcher == "brute_force", reduced = matcher == "reduced";
-  if (shot && brute) return AnalysisVariant(AnalysisOptions<ShotDescriptor, BruteForceMatcher>{});
-  if (shot && reduced) return AnalysisVariant(AnalysisOptions<ShotDescriptor, ReducedMatcher>{});
-  if (fpfh && brute) return AnalysisVariant(AnalysisOptions<FpfhDescriptor, BruteForceMatcher>{});
-  if (fpfh && reduced) return AnalysisVariant(AnalysisOptions<FpfhDescriptor, ReducedMatcher>{});
-  return std::nullopt;
+val string_array(const std::vector<std::string>& v) {
+  val a = val::array();
+  for (const std::string& s : v) a.call<void>("push", s);
+  return a;
 }
 
 // ---- the session --------------------------------------------------------------------------------------------------
@@ -123,12 +134,6 @@ class Session {
 
   val analyze(const std::string& descriptor, const std::string& matcher, val on_progress) {
     if (!input_) return status_object(error(StatusCode::invalid_argument, "load a model before analysing it"));
-    std::optional<AnalysisVariant> options = analysis_options(descriptor, matcher);
-    if (!options)
-      return status_object(error(StatusCode::invalid_argument, "unknown descriptor '" + descriptor + "' or matcher '" +
-                                                                   matcher +
-                                                                   "'; descriptors: shot, fpfh; matchers: "
-                                                                   "brute_force, reduced"));
     // Report at most every whole percent per stage: each report is a postMessage.
     std::string last_stage;
     int last_pct = -1;
@@ -144,56 +149,45 @@ class Session {
     });
     analysis_.reset();
     clear_retarget();
-    Result<Analysis> a = std::visit([&](const auto& o) { return restitch::analyze(*input_, o, progress); }, *options);
+    Result<Analysis> a = analyze_named(*input_, descriptor, matcher, progress);
     if (!a) return status_object(a.status());
     analysis_ = std::make_unique<Analysis>(std::move(*a));
     val out = val::object();
     out.set("ok", true);
-    out.set("analysis", analysis_json(*analysis_));
+    out.set("analysis", js_object(analysis_json(*analysis_)));
     out.set("extras", analysis_extras(*analysis_));
     return out;
   }
 
-  val retarget(int du, int dv, int dw, const std::string& label_space) {
+  val retarget(int s1, int s2, int s3, const std::string& label_space) {
     if (!input_ || !analysis_)
       return status_object(error(StatusCode::invalid_argument, "analyse the model before resizing it"));
-    const Eigen::Array3i steps(du, dv, dw);
-    if ((steps.abs() > max_steps).any())
+    if (std::max({std::abs(s1), std::abs(s2), std::abs(s3)}) > max_steps)
       return status_object(
           error(StatusCode::too_large, "the demo allows at most " + std::to_string(max_steps) + " steps per axis"));
-    if (!steps.isZero() && analysis_->lattice.principal_count() == 0)
-      return status_object(error(StatusCode::no_repetition,
-                                 "no repetition was found in this model, so there is nothing to resize along"));
-    Result<RetargetResult> r = error(StatusCode::internal, "no retargeter");
-    if (label_space == "lattice") {
-      if (!std::holds_alternative<Retargeter<LatticeLabels>>(retargeter_))
-        retargeter_.emplace<Retargeter<LatticeLabels>>(*input_, *analysis_, retarget_options());
-      r = std::get<Retargeter<LatticeLabels>>(retargeter_).retarget(steps);
-    } else if (label_space == "regular") {
-      if (!std::holds_alternative<Retargeter<RegularLabels>>(retargeter_))
-        retargeter_.emplace<Retargeter<RegularLabels>>(*input_, *analysis_, retarget_options());
-      r = std::get<Retargeter<RegularLabels>>(retargeter_).retarget(steps);
-    } else {
-      return status_object(error(StatusCode::invalid_argument,
-                                 "unknown label space '" + label_space + "'; label spaces: lattice, regular"));
+    Result<Eigen::Array3i> steps = principal_steps(*analysis_, {s1, s2, s3});
+    if (!steps) return status_object(steps.status());
+    if (!retargeter_ || label_space != retargeter_space_) {
+      // Build the new one aside: an unknown name or a grid too large keeps the current one usable.
+      auto next = std::make_unique<AnyRetargeter>(*input_, *analysis_, label_space, retarget_options());
+      if (!next->status()) return status_object(next->status());
+      retargeter_ = std::move(next);
+      retargeter_space_ = label_space;
     }
+    Result<RetargetResult> r = retargeter_->retarget(*steps);
     if (!r) return status_object(r.status());
     result_ = std::make_unique<RetargetResult>(std::move(*r));
-    return retarget_answer(*result_, label_space);
+    return retarget_answer(*result_, *analysis_, label_space);
   }
 
   val mesh(const std::string& which) const {
-    const Mesh* m = which == "result"  ? (result_ ? &result_->mesh : nullptr)
-                    : which == "input" ? input_.get()
-                                       : nullptr;
+    const Mesh* m = mesh_named(which);
     if (!m) return status_object(error(StatusCode::invalid_argument, "no '" + which + "' mesh in this session"));
     return mesh_arrays(*m);
   }
 
   val save_glb(const std::string& which) const {
-    const Mesh* m = which == "result"  ? (result_ ? &result_->mesh : nullptr)
-                    : which == "input" ? input_.get()
-                                       : nullptr;
+    const Mesh* m = mesh_named(which);
     if (!m) return status_object(error(StatusCode::invalid_argument, "no '" + which + "' mesh in this session"));
     Result<std::vector<std::uint8_t>> bytes = save_glb_to_memory(*m);
     if (!bytes) return status_object(bytes.status());
@@ -212,8 +206,15 @@ class Session {
     return o;
   }
 
+  const Mesh* mesh_named(const std::string& which) const {
+    if (which == "result") return result_ ? &result_->mesh : nullptr;
+    if (which == "input") return input_.get();
+    return nullptr;
+  }
+
   void clear_retarget() {
-    retargeter_.emplace<std::monostate>();
+    retargeter_.reset();
+    retargeter_space_.clear();
     result_.reset();
   }
 
@@ -225,66 +226,17 @@ class Session {
     out.set("ok", true);
     out.set("vertices", double(input_->vertex_count()));
     out.set("triangles", double(input_->triangle_count()));
-    val w = val::array();
-    for (const std::string& s : warnings) w.call<void>("push", s);
-    out.set("warnings", w);
+    out.set("warnings", string_array(warnings));
     const BoundingBox box = bounding_box(*input_);
     out.set("bbox_min", vec3(box.min));
     out.set("bbox_max", vec3(box.max));
     return out;
   }
 
-  // The fields of `restitch analyze --json`, model units.
-  static val analysis_json(const Analysis& a) {
-    val j = val::object();
-    j.set("scale", a.normalization.scale);
-    j.set("features", double(a.features.size()));
-    val dom = val::array();
-    for (const DominantOffset& d : a.dominant) {
-      val o = val::object();
-      o.set("offset", vec3(a.normalization.to_model_offset(d.offset)));
-      o.set("votes", double(d.votes));
-      o.set("significant", d.significant);
-      dom.call<void>("push", o);
-    }
-    j.set("dominant_offsets", dom);
-    val pr = val::array();
-    for (const Eigen::Vector3d& v : a.principal_model_units()) pr.call<void>("push", vec3(v));
-    j.set("principal_offsets", pr);
-    val dummies = val::array();
-    for (int c = 0; c < 3; ++c)
-      if (a.lattice.dummy[std::size_t(c)]) dummies.call<void>("push", vec3(a.lattice.A.col(c)));
-    j.set("dummy_directions", dummies);
-    val cells = val::array();
-    for (int c = 0; c < 3; ++c) cells.call<void>("push", a.lattice.cells(c));
-    j.set("lattice_cells", cells);
-    val sp = val::object();
-    sp.set("top7", a.sparsity.top7);
-    sp.set("top20", a.sparsity.top20);
-    j.set("sparsity", sp);
-    val t = val::object();
-    double total = 0;
-    for (const auto& [stage, ms] : a.timings_ms) t.set(stage, ms), total += ms;
-    t.set("total", total);
-    j.set("timings_ms", t);
-    return j;
-  }
-
-  // What the page draws besides the JSON: the lattice and the raw offsets (normalized) of the histogram view.
+  // What the page draws besides the JSON: the raw offsets (normalized) of the histogram view.
   static val analysis_extras(const Analysis& a) {
     val e = val::object();
-    e.set("descriptor", a.descriptor_name);
-    e.set("matcher", a.matcher_name);
     e.set("detector", a.detector_name);
-    val lat = val::object();
-    val cols = val::array();
-    for (int c = 0; c < 3; ++c) cols.call<void>("push", vec3(a.lattice.A.col(c)));
-    lat.set("axes", cols);
-    lat.set("origin", vec3(a.lattice.origin));
-    val dummy = val::array();
-    for (int c = 0; c < 3; ++c) dummy.call<void>("push", bool(a.lattice.dummy[std::size_t(c)]));
-    lat.set("dummy", dummy);
-    e.set("lattice", lat);
     std::vector<float> offsets;
     offsets.reserve(a.matches.size() * 3);
     for (std::size_t i = 0; i < a.matches.size(); ++i) {
@@ -301,33 +253,14 @@ class Session {
     return e;
   }
 
-  // The report (the figures of the paper's captions), the label grid and labels, and per face its label.
-  static val retarget_answer(const RetargetResult& r, const std::string& label_space) {
-    const RetargetReport& rep = r.report;
+  // The report as `restitch resize --json` prints it, the label grid and labels, and per face its label.
+  static val retarget_answer(const RetargetResult& r, const Analysis& a, const std::string& label_space) {
+    nlohmann::json j = retarget_json(r.report);
+    j["steps_principal"] = steps_along_principal(a, r.report.steps);
+    j["label_space"] = label_space;
     val out = val::object();
     out.set("ok", true);
-    val report = val::object();
-    report.set("label_space", label_space);
-    report.set("nodes", rep.nodes);
-    report.set("labels", rep.labels);
-    report.set("edges", rep.edges);
-    report.set("cycles", rep.cycles);
-    report.set("energy", rep.energy);
-    report.set("regions", double(rep.regions));
-    report.set("triangles_in", double(rep.triangles_in));
-    report.set("triangles_out", double(rep.triangles_out));
-    report.set("size_in", vec3(rep.size_in));
-    report.set("size_out", vec3(rep.size_out));
-    val t = val::object();
-    for (const auto& [stage, ms] : rep.timings_ms) t.set(stage, ms);
-    report.set("timings_ms", t);
-    val ints = val::array();
-    for (int a = 0; a < 3; ++a) ints.call<void>("push", rep.grid_steps(a));
-    report.set("grid_steps", ints);
-    out.set("report", report);
-    val cells = val::array();
-    for (int a = 0; a < 3; ++a) cells.call<void>("push", rep.out_cells(a));
-    out.set("out_cells", cells);
+    out.set("report", js_object(j));
     val grid = val::object();
     val cols = val::array();
     for (int c = 0; c < 3; ++c) cols.call<void>("push", vec3(r.grid.A.col(c)));
@@ -336,7 +269,7 @@ class Session {
     out.set("grid", grid);
     std::vector<std::int32_t> shifts(r.labels.size() * 3);
     for (std::size_t l = 0; l < r.labels.size(); ++l)
-      for (int a = 0; a < 3; ++a) shifts[3 * l + std::size_t(a)] = r.labels[l](a);
+      for (int k = 0; k < 3; ++k) shifts[3 * l + std::size_t(k)] = r.labels[l](k);
     out.set("label_shifts", typed_array("Int32Array", shifts.data(), shifts.size()));
     out.set("cell_labels", typed_array("Int32Array", r.cell_labels.data(), r.cell_labels.size()));
     const std::vector<std::uint32_t> order = face_order(r.mesh);
@@ -391,13 +324,14 @@ class Session {
   std::unique_ptr<Mesh> input_;
   std::unique_ptr<Analysis> analysis_;
   // Refers to *input_ and *analysis_ (kept at stable addresses): reset before either changes.
-  std::variant<std::monostate, Retargeter<LatticeLabels>, Retargeter<RegularLabels>> retargeter_;
+  std::unique_ptr<AnyRetargeter> retargeter_;
+  std::string retargeter_space_;
   std::unique_ptr<RetargetResult> result_;
 };
 
 // ---- free functions -----------------------------------------------------------------------------------------------
 
-std::string version() { return "restitch 0.1.0"; }
+std::string version() { return "restitch " RESTITCH_VERSION_STRING; }
 
 val samples_catalog() {
   val list = val::array();
@@ -425,16 +359,9 @@ val samples_catalog() {
 
 val policies() {
   val o = val::object();
-  val d = val::array(), m = val::array(), l = val::array();
-  d.call<void>("push", std::string("shot"));
-  d.call<void>("push", std::string("fpfh"));
-  m.call<void>("push", std::string("brute_force"));
-  m.call<void>("push", std::string("reduced"));
-  l.call<void>("push", std::string("lattice"));
-  l.call<void>("push", std::string("regular"));
-  o.set("descriptors", d);
-  o.set("matchers", m);
-  o.set("label_spaces", l);
+  o.set("descriptors", string_array(descriptor_names()));
+  o.set("matchers", string_array(matcher_names()));
+  o.set("label_spaces", string_array(label_space_names()));
   return o;
 }
 

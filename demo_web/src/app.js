@@ -3,16 +3,21 @@
 // The WebAssembly work runs in ./worker.js (protocol there); this file owns the
 // view (three.js), the controls (lil-gui) and the overlays. URL parameters:
 // ?sample=NAME picks the first sample (default bookshelf), ?descriptor=,
-// ?matcher=, ?labels= preset the policy choices.
+// ?matcher=, ?labels= preset the policy choices (default: the library's
+// defaults, the first of each list the module reports).
 //
 // Contract for automated checks:
 //   document.body.dataset.status: 'loading' | 'analyzing' | 'ready' | 'error'
 //   window.restitchDemo.analysis  the fields of `restitch analyze --json` (model units)
+//   window.restitchDemo.analysisMs  the analysis's time in the worker (ms)
 //   window.restitchDemo.result    {vertices, triangles} of the model shown
+//   window.restitchDemo.report    the fields of `restitch resize --json` for the result shown
 //   window.restitchDemo.setSteps([a, b, c])  resolves once the view shows that result
 //     (rejects with the message when the resize fails)
-//   window.restitchDemo.report, .resizeTimings (ms per shown resize), .statusHistory, .progressReports,
-//   .loadSample(name)
+//   window.restitchDemo.resizeTimings (ms per shown resize), .statusHistory, .progressReports,
+//   .loadSample(name), .setView('shaded' | 'labels' | 'seams'), .setOverlays({offsets, histogram}),
+//   .getCamera() -> {position, target}, .setCamera({position, target}) (model units; a later resize moves the
+//   camera with the model again, so set it after setSteps resolves for a fixed framing)
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
@@ -29,7 +34,7 @@ const $ = (id) => document.getElementById(id);
 const state = {
   status: 'loading',
   catalog: [],
-  policies: { descriptors: ['shot'], matchers: ['brute_force'], label_spaces: ['lattice'] },
+  policies: { descriptors: [], matchers: [], label_spaces: [] },  // from the module; the default first
   model: null,        // {name, units, info, inputMesh, materials, extentAlong}
   analysis: null,     // analyze --json fields
   extras: null,       // lattice, raw offsets
@@ -40,9 +45,9 @@ const state = {
 };
 const settings = {
   sample: query.get('sample') || 'bookshelf',
-  descriptor: query.get('descriptor') || 'shot',
-  matcher: query.get('matcher') || 'brute_force',
-  labelSpace: query.get('labels') || 'lattice',
+  descriptor: query.get('descriptor'),  // null: the module's default, set in start()
+  matcher: query.get('matcher'),
+  labelSpace: query.get('labels'),
   view: 'shaded',
   offsets: true,
   histogram: true,
@@ -265,7 +270,7 @@ function materialFor(group) {
 
 // Distinct colours for label indices (golden-ratio hues).
 function labelColor(label, out) {
-  return out.setHSL((label * 0.618033988749895 + 0.1) % 1, 0.62, 0.55);
+  return out.setHSL((label * 0.618033988749895 + 0.1) % 1, 0.7, 0.45);
 }
 
 // Non-indexed copy with one colour per face: the output cells coloured by their label (paper Fig. 4c).
@@ -291,7 +296,7 @@ function labelGeometry(mesh, faceLabels) {
 
 // Seam faces: every face shared by two 6-neighbour output cells with different labels.
 function seamObject(result) {
-  const [U, V, W] = result.out_cells;
+  const [U, V, W] = result.report.cells_out;
   const labels = result.cell_labels;
   const A = result.grid.axes.map((a) => new THREE.Vector3(...a));
   const o = new THREE.Vector3(...result.grid.origin);
@@ -414,7 +419,7 @@ function updateFigures() {
   if (m) {
     rows.push(['model', `${m.name} (${m.units})`]);
     rows.push(['triangles in', String(m.info.triangles)]);
-    rows.push(['triangles out', r ? String(r.result.report.triangles_out) : '–']);
+    rows.push(['triangles out', r ? String(r.result.report.output.triangles) : '–']);
     if (state.shown) rows.push(['shown', `${state.shown.vertices} vertices, ${state.shown.triangles} triangles`]);
     const s = m.box.getSize(new THREE.Vector3());
     rows.push(['size in', `${vfmt(s.toArray())} ${m.units}`]);
@@ -430,7 +435,7 @@ function updateFigures() {
   if (r) {
     const rep = r.result.report;
     rows.push(['size out', `${vfmt(rep.size_out)} ${m.units}`]);
-    rows.push(['label space', `${rep.label_space}, ${r.result.out_cells.join(' × ')} cells`]);
+    rows.push(['label space', `${rep.label_space}, ${rep.cells_out.join(' × ')} cells`]);
     rows.push(['nodes', `${rep.nodes}`]);
     rows.push(['labels', `${rep.labels}`]);
     rows.push(['cycles', `${rep.cycles}, energy ${fmt(rep.energy, 4)}`]);
@@ -658,8 +663,10 @@ function buildSliders() {
   settings.steps.v1 = settings.steps.v2 = settings.steps.v3 = 0;
   const a = state.analysis;
   state.model.extent = a.principal_offsets.map((v) => extentAlong(new THREE.Vector3(...v).normalize()));
+  // Slider i moves along principal offset v_i, the i-th lattice axis that is not a dummy (restitch::principal_steps).
+  const real = [0, 1, 2].filter((c) => !a.dummy_directions.some((d) => d.every((x, k) => x === a.lattice_axes[c][k])));
   a.principal_offsets.forEach((v, i) => {
-    const cells = a.lattice_cells[i];
+    const cells = a.lattice_cells[real[i]];
     const c = resizeFolder.add(settings.steps, `v${i + 1}`, 1 - cells, Math.min(24, Math.max(6, 2 * cells)), 1)
                   .onChange(() => { updateSliderNames(); requestResize(currentSteps()); });
     sliderControllers.push(c);
@@ -728,6 +735,7 @@ window.addEventListener('drop', (e) => {
 window.restitchDemo = {
   get status() { return state.status; },
   get analysis() { return state.analysis; },
+  get analysisMs() { return state.analysis ? state.analysisMs : null; },
   get result() { return state.shown ? { vertices: state.shown.vertices, triangles: state.shown.triangles } : null; },
   get report() { return state.retarget ? state.retarget.result.report : null; },
   get error() { return state.error; },
@@ -735,6 +743,26 @@ window.restitchDemo = {
   statusHistory,
   resizeTimings,
   setSteps,
+  setView: (view) => {
+    settings.view = view;
+    for (const c of viewFolder.controllers) c.updateDisplay();
+    showModel();
+    render();
+  },
+  setOverlays: ({ offsets = settings.offsets, histogram = settings.histogram } = {}) => {
+    settings.offsets = offsets;
+    settings.histogram = histogram;
+    arrowGroup.visible = offsets;
+    for (const c of viewFolder.controllers) c.updateDisplay();
+    render();
+  },
+  getCamera: () => ({ position: camera.position.toArray(), target: controls.target.toArray() }),
+  setCamera: ({ position, target }) => {
+    controls.target.fromArray(target);
+    camera.position.fromArray(position);
+    controls.update();
+    render();
+  },
   loadSample: (name, params = {}) => {
     settings.sample = name;
     if (sampleController) sampleController.updateDisplay();
@@ -751,6 +779,10 @@ async function start() {
     const msg = await request('catalog');
     state.catalog = msg.samples;
     state.policies = msg.policies;
+    const pick = (wanted, known) => (known.includes(wanted) ? wanted : known[0]);
+    settings.descriptor = pick(settings.descriptor, msg.policies.descriptors);
+    settings.matcher = pick(settings.matcher, msg.policies.matchers);
+    settings.labelSpace = pick(settings.labelSpace, msg.policies.label_spaces);
   } catch (e) {
     showError(`restitch could not start: ${e.message}`);
     return;

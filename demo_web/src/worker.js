@@ -10,9 +10,11 @@
 //   {type: 'retarget', steps: [a, b, c], labelSpace}   {type: 'retargeted', steps, result, mesh, ms}
 //   {type: 'save', which: 'result' | 'input'}          {type: 'saved', bytes}
 //   any failure                                        {type: 'error', request, code, message}
-// `mesh` is {positions, normals?, uvs?, colors?, indices, groups} (typed arrays
-// transferred, not copied); `glb` is the model as .glb bytes, from which the
-// page takes the materials and textures. Requests run one at a time in order;
+// `analysis` holds the fields of `restitch analyze --json`, `result.report` those
+// of `restitch resize --json` (see ../bindings.cpp); `steps` are steps along the
+// principal offsets v1, v2, v3. `mesh` is {positions, normals?, uvs?, colors?,
+// indices, groups} (typed arrays transferred, not copied); `glb` is the model as
+// .glb bytes, from which the page takes the materials and textures. Requests run one at a time in order;
 // analysis cannot be interrupted, so the page replaces the worker to cancel it.
 import { loadRestitch } from './restitch.js';
 

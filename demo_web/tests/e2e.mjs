@@ -91,11 +91,15 @@ try {
     return `${d.p} progress reports`;
   });
   const analysis = await page.evaluate(() => window.restitchDemo.analysis);
-  await attempt('window.restitchDemo.analysis has the analyze --json fields', async () => {
+  await attempt('window.restitchDemo.analysis has the analyze --json fields, with the default policies', async () => {
     for (const k of ['scale', 'features', 'dominant_offsets', 'principal_offsets', 'dummy_directions', 'lattice_cells',
-                     'sparsity', 'timings_ms']) assert(analysis && k in analysis, `missing ${k}`);
+                     'lattice_axes', 'sparsity', 'descriptor', 'matcher', 'timings_ms'])
+      assert(analysis && k in analysis, `missing ${k}`);
     assert(analysis.principal_offsets.length === 2, `${analysis.principal_offsets.length} principal offsets`);
-    return `analysis ${analysis.timings_ms.total.toFixed(0)} ms in the worker`;
+    assert(analysis.descriptor === 'shot' && analysis.matcher === 'brute_force',
+           `policies ${analysis.descriptor}/${analysis.matcher}, expected the defaults shot/brute_force`);
+    const ms = await page.evaluate(() => window.restitchDemo.analysisMs);
+    return `analysis ${ms.toFixed(0)} ms in the worker`;
   });
   const input = await page.evaluate(() => window.restitchDemo.result);
 
@@ -120,7 +124,8 @@ try {
     const shown = await page.evaluate(() => ({ result: window.restitchDemo.result, report: window.restitchDemo.report }));
     assert(shown.result.triangles === r.triangles, 'resolved before the view showed it');
     assert(shown.result.triangles > input.triangles, `${shown.result.triangles} vs ${input.triangles}`);
-    assert(shown.report.triangles_out === shown.result.triangles, 'report and view disagree');
+    assert(shown.report.output.triangles === shown.result.triangles, 'report and view disagree');
+    assert(shown.report.steps_principal.join() === '1,1', `steps_principal ${shown.report.steps_principal}`);
     return `${shown.result.triangles} triangles, ${shown.report.nodes} nodes, ${shown.report.labels} labels`;
   });
   await attempt('setSteps([-1, 0, 0]) shows a shrunk model', async () => {
@@ -146,6 +151,25 @@ try {
       await page.waitForTimeout(150);
     }
     assert((await status()) === 'ready', `status ${await status()}`);
+  });
+  await attempt('setView, setOverlays, getCamera/setCamera (the README pictures use them)', async () => {
+    const moved = await page.evaluate(() => {
+      const d = window.restitchDemo;
+      d.setView('labels');
+      d.setOverlays({ offsets: false, histogram: false });
+      const cam = d.getCamera();
+      const next = { target: cam.target, position: cam.position.map((x, k) => cam.target[k] + 0.5 * (x - cam.target[k])) };
+      d.setCamera(next);
+      const back = d.getCamera();
+      d.setCamera(cam);
+      d.setOverlays({ offsets: true, histogram: true });
+      d.setView('shaded');
+      return { next, back };
+    });
+    const err = Math.max(...moved.next.position.map((x, k) => Math.abs(x - moved.back.position[k])));
+    assert(err < 1e-6, `setCamera then getCamera differ by ${err}`);
+    assert((await status()) === 'ready', `status ${await status()}`);
+    assert(!(await page.isHidden('#histogram-label')), 'the histogram is not shown again');
   });
   await attempt('the regular label space solves the same request', async () => {
     const labels = page.locator('.lil-gui .lil-controller.lil-option').filter({ hasText: 'label space' }).locator('select');

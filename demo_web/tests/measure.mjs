@@ -1,7 +1,12 @@
 // Measures the demo in Debian's Chromium: analysis time in the worker and the time from a resize request
 // to the view showing it (window.restitchDemo.setSteps), for every bundled sample and every model in
-// ../shared/models. Not part of run.sh (it takes minutes); prints one line per model.
-// Usage: node demo_web/tests/measure.mjs [PATTERN]   (the static server must be free to start)
+// ../shared/models, with the page's default policies. Not part of run.sh (it takes minutes); prints one
+// line per model: the analysis's wall time in the worker and its slowest stages; per principal offset the
+// first resize (which builds the Retargeter's caches) and then the later moves (steps 2, 3, 2, 1, -1, 0),
+// each from the request to the view showing the result; the retarget's own stages (energy/solve/stitch,
+// median over the later moves, from the report).
+// Usage: node demo_web/tests/measure.mjs [PATTERN] [QUERY]   e.g. `fence matcher=brute_force` (QUERY: the page's
+// URL parameters, to pick other policies)
 import fs from 'node:fs';
 import os from 'node:os';
 import net from 'node:net';
@@ -15,6 +20,7 @@ const demo = path.resolve(here, '..');
 const { chromium } = createRequire(path.join(demo, 'package.json'))('playwright-core');
 const modelsDir = path.resolve(demo, '../../shared/models');
 const pattern = new RegExp(process.argv[2] || '.');
+const query = process.argv[3] ? `?${process.argv[3]}` : '';
 
 const port = await new Promise((resolve) => {
   const srv = net.createServer().listen(0, '127.0.0.1', () => { const p = srv.address().port; srv.close(() => resolve(p)); });
@@ -30,7 +36,7 @@ const median = (xs) => { const s = xs.slice().sort((a, b) => a - b); return s[s.
 try {
   const page = context.pages()[0] || await context.newPage();
   for (let i = 0; i < 100; ++i) {
-    try { await page.goto(`http://127.0.0.1:${port}/index.html`); break; } catch { await new Promise((r) => setTimeout(r, 100)); }
+    try { await page.goto(`http://127.0.0.1:${port}/index.html${query}`); break; } catch { await new Promise((r) => setTimeout(r, 100)); }
   }
   const ready = () => page.waitForFunction(() => ['ready', 'error'].includes(document.body.dataset.status), null,
                                            { timeout: 600000, polling: 50 });
@@ -47,23 +53,35 @@ try {
     await ready();
     const wall = Date.now() - t0;
     const a = await page.evaluate(() => window.restitchDemo.analysis);
+    const ms = await page.evaluate(() => window.restitchDemo.analysisMs);
     const st = await page.evaluate(() => document.body.dataset.status);
+    const stages = a ? Object.entries(a.timings_ms).sort((x, y) => y[1] - x[1]).slice(0, 3)
+                         .map(([k, v]) => `${k} ${v.toFixed(0)}`).join(', ') : '';
     if (st !== 'ready') {
-      console.log(`${label}: ${st}: ${await page.textContent('#error')} (analysis ${a ? a.timings_ms.total.toFixed(0) : '-'} ms)`);
+      console.log(`${label}: ${st}: ${await page.textContent('#error')} (analysis ${ms ? ms.toFixed(0) : '-'} ms: ${stages})`);
       continue;
     }
-    const first = [], later = [];
+    const first = [], later = [], parts = { energy: [], solve: [], stitch: [] };
+    let failures = 0;
     for (let axis = 0; axis < a.principal_offsets.length; ++axis) {
       for (const k of [1, 2, 3, 2, 1, -1, 0]) {
         const steps = [0, 0, 0];
         steps[axis] = k;
-        const r = await page.evaluate((s) => window.restitchDemo.setSteps(s).then((x) => x.ms, (e) => -1), steps);
-        (k === 1 && first.length === axis ? first : later).push(r);
+        const r = await page.evaluate((s) => window.restitchDemo.setSteps(s).then((x) => x.ms, () => -1), steps);
+        if (r < 0) { ++failures; continue; }
+        if (k === 1 && first.length === axis) { first.push(r); continue; }
+        later.push(r);
+        const rep = await page.evaluate(() => window.restitchDemo.report.timings_ms);
+        if (k !== 0) for (const p of Object.keys(parts)) parts[p].push(rep[p] || 0);
       }
     }
-    console.log(`${label}: analysis ${a.timings_ms.total.toFixed(0)} ms in the worker (${(wall / 1000).toFixed(1)} s to ready), ` +
-                `${a.principal_offsets.length} principal; resize ms first step per axis ${first.map((x) => x.toFixed(0)).join('/')}, ` +
-                `then median ${median(later).toFixed(0)}, max ${Math.max(...later).toFixed(0)}`);
+    const f0 = (x) => (x === undefined ? '-' : x.toFixed(0));
+    const f1 = (x) => (x === undefined ? '-' : x.toFixed(1));
+    console.log(`${label}: ${a.descriptor}/${a.matcher} analysis ${ms.toFixed(0)} ms in the worker (${stages}; ${(wall / 1000).toFixed(1)} s to ready), ` +
+                `${a.features} features, ${a.principal_offsets.length} principal, cells ${a.lattice_cells.join('x')}; ` +
+                `resize ms: first ${first.map(f0).join('/')}, later median ${f0(median(later))}, max ${f0(Math.max(...later))}` +
+                ` (median energy ${f1(median(parts.energy))}, solve ${f1(median(parts.solve))}, stitch ${f1(median(parts.stitch))})` +
+                `${failures ? `; ${failures} resizes failed` : ''}`);
   }
 } finally {
   await context.close();

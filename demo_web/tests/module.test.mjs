@@ -50,17 +50,19 @@ function tetrahedronGltf() {
 
 const near = (a, b, tol) => Math.abs(a - b) <= tol;
 
-// One analysed bookshelf shared by the tests below (analysis is the slow part).
+// One analysed bookshelf shared by the tests below (analysis is the slow part), with the default policies.
 const shelf = new restitch.Session();
 const shelfInfo = shelf.loadSample('bookshelf', {});
 const progress = [];
-const shelfAnalysis = shelf.analyze('shot', 'brute_force', (stage, f) => progress.push([stage, f]));
+const shelfAnalysis = shelf.analyze('shot', 'reduced', (stage, f) => progress.push([stage, f]));
 
 test('the module lists its samples and policies', () => {
   const names = restitch.samples().map((s) => s.name);
   assert.deepEqual(names, ['bookshelf', 'facade', 'facade_sheared', 'fence', 'pin_header']);
   const p = restitch.policies();
+  // The library's lists (restitch/runtime.hpp), the default first: the page preselects the first.
   assert.deepEqual(p.descriptors, ['shot', 'fpfh']);
+  assert.deepEqual(p.matchers, ['brute_force', 'reduced']);
   assert.deepEqual(p.label_spaces, ['lattice', 'regular']);
   assert.match(restitch.version(), /^restitch \d+\.\d+\.\d+$/);
 });
@@ -89,6 +91,10 @@ test('bad bytes and bad requests give a status in words, never a throw', () => {
     assert.equal(s.loadSample('bookshelf', { columns: 2 }).ok, true);
     r = s.analyze('nope', 'brute_force', null);
     assert.equal(r.code, 'invalid_argument');
+    assert.match(r.message, /shot, fpfh/, 'the known descriptors are listed');
+    r = s.analyze('shot', 'nope', null);
+    assert.equal(r.code, 'invalid_argument');
+    assert.match(r.message, /brute_force, reduced/, 'the known matchers are listed');
     assert.equal(s.mesh('result').ok, false, 'no result yet');
   } finally {
     s.delete();
@@ -110,8 +116,17 @@ test('a sample loads with the size of its parameters', () => {
 test('analysis finds the bookshelf generators as principal offsets (model units)', () => {
   assert.equal(shelfAnalysis.ok, true, shelfAnalysis.message);
   const a = shelfAnalysis.analysis;
-  for (const key of ['scale', 'features', 'dominant_offsets', 'principal_offsets', 'dummy_directions',
-                     'lattice_cells', 'sparsity', 'timings_ms']) assert.ok(key in a, key);
+  // Exactly the fields of `restitch analyze --json` (restitch/io/json_report.hpp).
+  assert.deepEqual(Object.keys(a).sort(),
+                   ['descriptor', 'dominant_offsets', 'dummy_directions', 'features', 'lattice_axes', 'lattice_cells',
+                    'lattice_origin', 'matcher', 'principal_offsets', 'scale', 'sparsity', 'timings_ms']);
+  assert.equal(a.descriptor, 'shot');
+  assert.equal(a.matcher, 'reduced');
+  // The principal offsets are the lattice's non-dummy axes, in order (what the retarget steps refer to).
+  const dummy = (c) => a.dummy_directions.some((d) => d.every((x, k) => x === a.lattice_axes[c][k]));
+  const real = [0, 1, 2].filter((c) => !dummy(c));
+  assert.equal(real.length, a.principal_offsets.length);
+  real.forEach((c, i) => assert.ok(a.principal_offsets[i].every((x, k) => near(x, a.lattice_axes[c][k], 1e-9))));
   assert.ok(near(a.scale, 2 / 1.62, 1e-6), `scale ${a.scale}`);
   assert.equal(a.principal_offsets.length, 2);
   assert.equal(a.dummy_directions.length, 1);
@@ -127,7 +142,9 @@ test('analysis finds the bookshelf generators as principal offsets (model units)
   for (const s of ['sampling', 'descriptors', 'matching', 'lattice']) assert.ok(stages.includes(s), s);
   assert.deepEqual(progress.at(-1), ['lattice', 1]);
   const e = shelfAnalysis.extras;
-  assert.equal(e.descriptor, 'shot');
+  assert.equal(e.dominant_normalized.length, a.dominant_offsets.length);
+  e.dominant_normalized.forEach((d, i) =>
+    assert.ok(d.every((x, k) => near(x / a.scale, a.dominant_offsets[i].offset[k], 1e-9)), 'normalized = scale x model'));
   assert.equal(e.match_offsets.length % 3, 0);
   assert.ok(e.match_offsets.length / 3 > a.features / 2);
 });
@@ -142,13 +159,21 @@ test('retarget grows and shrinks by whole repeats, and the .glb validates', asyn
     assert.equal(r.ok, true, r.message);
     const rep = r.report;
     assert.ok(near(rep.size_out[axis] - rep.size_in[axis], k * len1, 2e-3), `k=${k}: ${rep.size_out} vs ${rep.size_in}`);
-    assert.equal(rep.triangles_in, shelfInfo.triangles);
-    assert.ok(k > 0 ? rep.triangles_out > rep.triangles_in : rep.triangles_out < rep.triangles_in, `k=${k}`);
+    // The fields of `restitch resize --json`: steps along the principal offsets and on the lattice, cells.
+    assert.deepEqual(rep.steps_principal, [k, 0]);
+    assert.deepEqual(rep.steps, [k, 0, 0]);
+    assert.deepEqual(rep.cells_in, a.lattice_cells);
+    assert.deepEqual(rep.cells_out, [a.lattice_cells[0] + k, a.lattice_cells[1], a.lattice_cells[2]]);
+    assert.equal(rep.label_space, 'lattice');
+    const out = rep.output.triangles;
+    assert.ok(k > 0 ? out > shelfInfo.triangles : out < shelfInfo.triangles, `k=${k}`);
     assert.ok(rep.nodes > 0 && rep.labels === Math.abs(k) + 1, `labels ${rep.labels}`);
     const m = shelf.mesh('result');
-    assert.equal(m.indices.length, rep.triangles_out * 3);
-    assert.equal(r.face_labels.length, rep.triangles_out);
-    assert.equal(r.cell_labels.length, r.out_cells[0] * r.out_cells[1] * r.out_cells[2]);
+    assert.equal(m.indices.length, out * 3);
+    assert.equal(m.positions.length, rep.output.vertices * 3);
+    assert.equal(r.face_labels.length, out);
+    assert.equal(r.cell_labels.length, rep.cells_out[0] * rep.cells_out[1] * rep.cells_out[2]);
+    assert.equal(r.label_shifts.length, rep.labels * 3);
     assert.ok(r.face_labels.every((l) => l >= 0 && l < rep.labels));
     const glb = shelf.saveGlb('result');
     assert.equal(glb.ok, true);
@@ -159,17 +184,23 @@ test('retarget grows and shrinks by whole repeats, and the .glb validates', asyn
     const info = back.loadGltf(glb.bytes);
     back.delete();
     assert.equal(info.ok, true);
-    assert.equal(info.triangles, rep.triangles_out);
+    assert.equal(info.triangles, out);
   }
   // Steps of zero give the input back; shrinking past one cell and steps along the dummy axis are refused.
   const same = shelf.retarget(0, 0, 0, 'lattice');
-  assert.equal(same.report.triangles_out, shelfInfo.triangles);
+  assert.equal(same.report.output.triangles, shelfInfo.triangles);
   const cells = a.lattice_cells[0];
   const tooSmall = shelf.retarget(-cells, 0, 0, 'lattice');
   assert.equal(tooSmall.ok, false);
   assert.match(tooSmall.message, /shrink/);
-  assert.equal(shelf.retarget(0, 0, 1, 'lattice').ok, false);
-  assert.equal(shelf.retarget(1, 0, 0, 'hexagonal').code, 'invalid_argument');
+  const third = shelf.retarget(0, 0, 1, 'lattice');
+  assert.equal(third.code, 'invalid_argument', 'the bookshelf has no third principal offset');
+  assert.match(third.message, /2 principal offset/);
+  const unknown = shelf.retarget(1, 0, 0, 'hexagonal');
+  assert.equal(unknown.code, 'invalid_argument');
+  assert.match(unknown.message, /lattice, regular/);
+  // A refused label space keeps the session usable.
+  assert.equal(shelf.retarget(1, 0, 0, 'lattice').ok, true);
 });
 
 test('the regular baseline needs more nodes for the same request', () => {
@@ -181,11 +212,16 @@ test('the regular baseline needs more nodes for the same request', () => {
   assert.ok(near(regular.report.size_out[0], lattice.report.size_out[0], 0.1 * 1.62 / 2 + 1e-6));
 });
 
-test('the same requests give the same bytes (deterministic)', () => {
+test('the same requests give the same bytes; the reduced matcher gives what brute force gives', () => {
   const s = new restitch.Session();
   try {
     s.loadSample('bookshelf', {});
-    s.analyze('shot', 'brute_force', null);
+    // The reference matcher in a second session: the reduced one (the shelf's) is exact, so everything agrees.
+    const b = s.analyze('shot', 'brute_force', null);
+    assert.equal(b.ok, true, b.message);
+    const strip = (x) => ({ ...x, matcher: '', timings_ms: {} });
+    assert.deepEqual(strip(b.analysis), strip(shelfAnalysis.analysis));
+    assert.deepEqual(b.extras.match_offsets, shelfAnalysis.extras.match_offsets);
     assert.equal(s.retarget(2, 1, 0, 'lattice').ok, true);
     assert.equal(shelf.retarget(2, 1, 0, 'lattice').ok, true);
     assert.deepEqual(s.saveGlb('result').bytes, shelf.saveGlb('result').bytes);
@@ -200,8 +236,8 @@ test('FPFH with the reduced matcher is a compiled choice too', () => {
     s.loadSample('fence', {});
     const r = s.analyze('fpfh', 'reduced', null);
     assert.equal(r.ok, true, r.message);
-    assert.equal(r.extras.descriptor, 'fpfh');
-    assert.equal(r.extras.matcher, 'reduced');
+    assert.equal(r.analysis.descriptor, 'fpfh');
+    assert.equal(r.analysis.matcher, 'reduced');
     assert.ok(r.analysis.features > 0);
     assert.ok(r.analysis.principal_offsets.length >= 1, JSON.stringify(r.analysis.principal_offsets));
   } finally {
@@ -235,12 +271,12 @@ test('a textured real model keeps its textures through a resize', { skip: !fs.ex
   try {
     const info = s.loadGltf(bytes);
     assert.equal(info.ok, true, info.message);
-    const a = s.analyze('shot', 'brute_force', null);
+    const a = s.analyze('shot', 'reduced', null);
     assert.equal(a.ok, true, a.message);
     assert.ok(a.analysis.principal_offsets.length >= 1, 'the lattice rails repeat');
     const r = s.retarget(1, 0, 0, 'lattice');
     assert.equal(r.ok, true, r.message);
-    assert.notEqual(r.report.triangles_out, r.report.triangles_in);
+    assert.notEqual(r.report.output.triangles, info.triangles);
     const out = s.saveGlb('result').bytes;
     const issues = await validate(out);
     assert.equal(issues.numErrors, 0, JSON.stringify(issues.messages.slice(0, 5)));

@@ -23,7 +23,7 @@ Result<Analysis> load_and_analyze(const std::string& input, const std::string& d
 
 void add_policy_options(CLI::App* cmd, std::string& descriptor, std::string& matcher) {
   cmd->add_option("--descriptor", descriptor, "descriptor policy")->check(CLI::IsMember(descriptor_names()))->capture_default_str();
-  cmd->add_option("--matcher", matcher, "matcher policy: reduced (fast) or brute_force (the reference); both exact")
+  cmd->add_option("--matcher", matcher, "matcher policy: brute_force (the reference) or reduced (PCA candidates, exact re-ranking); same result")
       ->check(CLI::IsMember(matcher_names()))
       ->capture_default_str();
 }
@@ -63,7 +63,7 @@ void print_analysis(const std::string& input, const Analysis& a) {
 
 void register_analysis_commands(CLI::App& app, int* exit_code) {
   {
-    struct Args { std::string input, json, descriptor = "shot", matcher = "reduced"; };
+    struct Args { std::string input, json, descriptor = "shot", matcher = "brute_force"; };
     auto args = std::make_shared<Args>();
     CLI::App* cmd = app.add_subcommand("analyze", "Find how a model repeats: dominant and principal offsets, and its lattice");
     cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();

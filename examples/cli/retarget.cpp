@@ -24,7 +24,7 @@ std::string join(const std::vector<int>& v) {
 void register_retarget_commands(CLI::App& app, int* exit_code) {
   {
     struct Args {
-      std::string input, output, json, dump_mrf, descriptor = "shot", matcher = "reduced", labels = "lattice";
+      std::string input, output, json, dump_mrf, descriptor = "shot", matcher = "brute_force", labels = "lattice";
       std::vector<int> steps;
       std::vector<double> size;
       std::size_t max_problem = RetargetOptions().max_problem_size;

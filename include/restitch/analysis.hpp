@@ -134,7 +134,7 @@ std::string policy_name(const T& policy) {
 }
 
 /// Options of `analyze`. Lengths are normalized (the model's longest side spans 2).
-template <class Descriptor = ShotDescriptor, class Matcher = ReducedMatcher,
+template <class Descriptor = ShotDescriptor, class Matcher = BruteForceMatcher,
           class Detector = HistogramOffsetDetector>
 struct AnalysisOptions {
   Descriptor descriptor{};
@@ -183,7 +183,7 @@ struct Analysis {
 };
 
 /// Runs the analysis (see the header comment).
-template <class D = ShotDescriptor, class M = ReducedMatcher, class Det = HistogramOffsetDetector>
+template <class D = ShotDescriptor, class M = BruteForceMatcher, class Det = HistogramOffsetDetector>
 Result<Analysis> analyze(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options = {},
                          const Progress& progress = {}) {
   static_assert(is_descriptor_policy_v<D>,
