@@ -27,21 +27,25 @@ run_ctest() {
   passed=$((passed + t - f)); failed=$((failed + f))
 }
 stage() { echo; echo "=== restitch: $* ==="; }
-build() {  # build DIR [cmake args...]
-  local dir="$1"; shift
-  cmake -S "$root" -B "$dir" "$@" >/dev/null && cmake --build "$dir" -j "$jobs" || { broken=$((broken + 1)); return 1; }
+build() {  # build DIR "TARGETS" [cmake args...]   (TARGETS "" = all)
+  local dir="$1" targets="$2"; shift 2
+  local t=(); [ -n "$targets" ] && t=(--target $targets)
+  cmake -S "$root" -B "$dir" "$@" >/dev/null && cmake --build "$dir" "${t[@]}" -j "$jobs" || { broken=$((broken + 1)); return 1; }
 }
 
 stage "native build and tests"
-build build/native -DCMAKE_BUILD_TYPE=Release && run_ctest build/native
+build build/native "" -DCMAKE_BUILD_TYPE=Release && run_ctest build/native
 
 stage "AddressSanitizer + UndefinedBehaviorSanitizer"
-build build/sanitize -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DRESTITCH_SANITIZE=ON \
-  -DRESTITCH_BUILD_BENCH=OFF -DRESTITCH_PCL_ORACLE=OFF && run_ctest build/sanitize -E install_consumer
+build build/sanitize "restitch_tests restitch_cli" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1" \
+  -DRESTITCH_SANITIZE=ON -DRESTITCH_BUILD_BENCH=OFF -DRESTITCH_PCL_ORACLE=OFF &&
+  run_ctest build/sanitize -E "install_consumer|example_"
 
 stage "WebAssembly (Emscripten) build of the tests, under node"
-if build build/wasm -DCMAKE_TOOLCHAIN_FILE=/usr/share/emscripten/cmake/Modules/Platform/Emscripten.cmake \
-    -DCMAKE_BUILD_TYPE=Release -DRESTITCH_BUILD_EXAMPLES=OFF -DRESTITCH_BUILD_BENCH=OFF \
+# The same configuration builds the web demo's module (demo_web/dist), reused by stage 4.
+if build build/wasm "restitch_tests restitch_web" \
+    -DCMAKE_TOOLCHAIN_FILE=/usr/share/emscripten/cmake/Modules/Platform/Emscripten.cmake \
+    -DCMAKE_BUILD_TYPE=Release -DRESTITCH_BUILD_EXAMPLES=OFF -DRESTITCH_BUILD_BENCH=OFF -DRESTITCH_BUILD_WEB=ON \
     "-DCMAKE_CROSSCOMPILING_EMULATOR=/usr/bin/node;--no-experimental-fetch"; then
   run_ctest build/wasm
 fi
@@ -49,7 +53,7 @@ fi
 if [ -f "$root/demo_web/tests/run.sh" ]; then
   stage "web demo: node and browser tests"
   log=build/web-tests.log
-  bash "$root/demo_web/tests/run.sh" 2>&1 | tee "$log"
+  RESTITCH_WEB_BUILD="$root/build/wasm" bash "$root/demo_web/tests/run.sh" 2>&1 | tee "$log"
   line=$(grep -E "^[0-9]+ passed, [0-9]+ failed" "$log" | tail -1)
   if [ -z "$line" ]; then broken=$((broken + 1)); else
     passed=$((passed + $(echo "$line" | cut -d' ' -f1))); failed=$((failed + $(echo "$line" | cut -d' ' -f3 | tr -d ,)))

@@ -8,7 +8,7 @@ export NODE_PATH=/usr/share/nodejs
 if [ ! -d "$root/demo_web/node_modules/three" ] || [ ! -d "$root/demo_web/node_modules/lil-gui" ]; then
   (cd "$root/demo_web" && npm ci --no-audit --no-fund)
 fi
-build="$root/build/web"
+build="${RESTITCH_WEB_BUILD:-$root/build/web}"  # scripts/test.sh points this at its wasm build
 if [ ! -f "$build/CMakeCache.txt" ]; then
   emcmake cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DRESTITCH_BUILD_TESTS=OFF \
     -DRESTITCH_BUILD_EXAMPLES=OFF -DRESTITCH_BUILD_BENCH=OFF -DRESTITCH_BUILD_WEB=ON >/dev/null

@@ -1,0 +1,88 @@
+// The real models of ../shared/models (made by others, see its MANIFEST.tsv):
+// the repeats its `expected_repeat` column lists that are longer than tau are
+// found among the principal offsets, and resizing along the first principal
+// offset works. Skipped, with a message, when the folder is absent. Tagged
+// [slow]: the sanitizer and WebAssembly runs leave it out (the native run has it).
+#include <catch2/catch.hpp>
+
+#include <fstream>
+
+#include "restitch/restitch.hpp"
+
+using namespace restitch;
+
+namespace {
+
+struct Expected {
+  const char* file;
+  Eigen::Vector3d offset;  // model units, from MANIFEST.tsv's expected_repeat
+};
+
+// Repeats from MANIFEST.tsv longer than tau (0.15 normalized) that restitch finds.
+const Expected kFound[] = {
+    {"blendswap-cc0_fence.glb", {22.45, 0, 0}},                    // ornament module pitch 22.45 along x
+    {"blendswap-cc0_pallet.glb", {0, 0, 18.47}},                   // deck boards pitch 18.47 along z
+    {"blendswap-cc0_verticalShelves.glb", {0, 37.9, 0}},           // shelf boards pitch ~37.9 along y
+    {"blendswap-ccby_dresserWithDrawers.glb", {0, 22.09, 0}},      // drawers pitch 22.09 along y
+    {"scopia_iron-railing-1.glb", {16.0, 0, 0}},                   // bars pitch 16.00 along x
+    {"scopia_japanese_style_screen.glb", {0, 20.0, 0}},            // lattice rails pitch 20.0 along y
+    {"sh3d-default_railing.glb", {0.118, 0, 0}},                   // balusters pitch 0.118 along x
+};
+// Listed repeats longer than tau that restitch does NOT find today (see the
+// README's "Known limits"): pallet stringers 58.41 along x and dresser columns
+// 78.12 along x (three and two copies: the significance test asks for a
+// pattern that also holds at twice the offset), the keyboard's octave 0.6875
+// (about two copies), the garage door's window panels 44.81 (irregular pitch,
+// large flat panels give the peak little contrast) and window_4x5's muntins
+// 39.75 along y (mirrored leaves dominate the statistics).
+
+bool shared_models_present() { return std::ifstream(std::string(RESTITCH_SHARED_MODELS) + "/MANIFEST.tsv").good(); }
+
+}  // namespace
+
+TEST_CASE("models: the listed repeats longer than tau are found, and resizing along them works", "[models][slow]") {
+  if (!shared_models_present()) {
+    WARN("../shared/models is absent: real-model checks skipped");
+    return;
+  }
+  for (const Expected& e : kFound) {
+    INFO(e.file);
+    auto mesh = load_gltf(std::string(RESTITCH_SHARED_MODELS) + "/" + e.file);
+    REQUIRE(mesh.ok());
+    auto a = analyze(*mesh);
+    REQUIRE(a.ok());
+    bool found = false;
+    for (const Eigen::Vector3d& v : a->principal_model_units()) {
+      const double cosine = std::abs(v.normalized().dot(e.offset.normalized()));
+      found |= cosine > std::cos(M_PI / 180.0) && std::abs(v.norm() - e.offset.norm()) < 0.01 * e.offset.norm();
+    }
+    CHECK(found);
+    // +2 and -1 steps along the first principal offset give a valid, larger and smaller model.
+    Retargeter<> r(*mesh, *a);
+    const double length = bounding_box(*mesh).size().dot(a->principal_model_units()[0].normalized().cwiseAbs());
+    for (const int k : {2, -1}) {
+      auto steps = principal_steps(*a, {k});
+      REQUIRE(steps.ok());
+      auto out = r.retarget(*steps);
+      REQUIRE(out.ok());
+      CHECK(validate(out->mesh).ok());
+      const double grown = bounding_box(out->mesh).size().dot(a->principal_model_units()[0].normalized().cwiseAbs());
+      CHECK((k > 0 ? grown > length : grown < length));
+    }
+  }
+}
+
+TEST_CASE("models: the spiral staircase (a screw motion, no translation) has no principal offset", "[models][slow]") {
+  if (!shared_models_present()) {
+    WARN("../shared/models is absent: real-model checks skipped");
+    return;
+  }
+  auto mesh = load_gltf(std::string(RESTITCH_SHARED_MODELS) + "/blendswap-cc0_spiralStaircase.glb");
+  REQUIRE(mesh.ok());
+  auto a = analyze(*mesh);
+  REQUIRE(a.ok());
+  CHECK(a->principal.empty());
+  auto out = retarget(*mesh, *a, Eigen::Array3i(1, 0, 0));
+  REQUIRE_FALSE(out.ok());
+  CHECK(out.status().code() == StatusCode::no_repetition);
+}
