@@ -13,30 +13,16 @@
 #include "restitch/analysis.hpp"
 #include "restitch/samples/samples.hpp"
 
+#include "support/mesh_builders.hpp"
+
 using namespace restitch;
+using restitch::test::add_box;
 using Eigen::Vector3d;
 
 namespace {
 
 double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
 
-void add_box(Mesh& m, const Vector3d& lo, const Vector3d& hi) {
-  const Eigen::Index base = m.V.rows();
-  m.V.conservativeResize(base + 8, 3);
-  for (int c = 0; c < 8; ++c)
-    m.V.row(base + c) =
-        Eigen::Vector3f(float(c & 1 ? hi.x() : lo.x()), float(c & 2 ? hi.y() : lo.y()), float(c & 4 ? hi.z() : lo.z()));
-  static const int quads[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
-  const Eigen::Index f0 = m.F.rows();
-  m.F.conservativeResize(f0 + 12, 3);
-  for (int q = 0; q < 6; ++q) {
-    const auto* k = quads[q];
-    m.F.row(f0 + 2 * q) << std::uint32_t(base + k[0]), std::uint32_t(base + k[1]), std::uint32_t(base + k[2]);
-    m.F.row(f0 + 2 * q + 1) << std::uint32_t(base + k[0]), std::uint32_t(base + k[2]), std::uint32_t(base + k[3]);
-  }
-  m.FG = VectorXu::Zero(m.F.rows());
-  if (m.groups.empty()) m.groups.push_back(Group{});
-}
 
 // A single irregular object: a few boxes of different random sizes at random places.
 Mesh random_boxes(std::uint64_t seed) {
