@@ -34,8 +34,10 @@ struct OctantDescriptor {
         out(q, octant * 2 + (r > radius / 2)) += 1;
       }
       const float n = out.row(q).norm();
-      if (n > 0) out.row(q) /= n;
-      else out.row(q).setConstant(std::numeric_limits<float>::quiet_NaN());
+      if (n > 0)
+        out.row(q) /= n;
+      else
+        out.row(q).setConstant(std::numeric_limits<float>::quiet_NaN());
     }
     return {};
   }

@@ -16,13 +16,12 @@
 #include "support/mesh_builders.hpp"
 
 using namespace restitch;
-using restitch::test::add_box;
 using Eigen::Vector3d;
+using restitch::test::add_box;
 
 namespace {
 
 double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
-
 
 // A single irregular object: a few boxes of different random sizes at random places.
 Mesh random_boxes(std::uint64_t seed) {

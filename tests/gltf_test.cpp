@@ -57,8 +57,9 @@ Mesh textured_mesh() {
   b.j["images"] = {{{"bufferView", bv}, {"mimeType", "image/png"}, {"name", "checker"}}};
   b.j["samplers"] = {{{"magFilter", 9728}, {"wrapS", 33648}}};
   b.j["textures"] = {{{"source", 0}, {"sampler", 0}}};
-  b.j["materials"] = {{{"name", "painted"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}, {"metallicFactor", 0.25}}}},
-                      {{"name", "plain"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.25, 1.0, 1.0}}}}}};
+  b.j["materials"] = {
+      {{"name", "painted"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}, {"metallicFactor", 0.25}}}},
+      {{"name", "plain"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.25, 1.0, 1.0}}}}}};
   const int m0 = restitch::test::add_quad_mesh(b, 4, true, 0);
   const int m1 = restitch::test::add_quad_mesh(b, 4, true, 1);
   add_scene(b, {{{"mesh", m0}}, {{"mesh", m1}, {"translation", {0, 0, 2}}}});
@@ -183,7 +184,10 @@ TEST_CASE("gltf: tangents and vertex colours survive, attribute sets stay per gr
   const std::vector<float> pos = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   const std::vector<float> tan = {1, 0, 0, -1, 1, 0, 0, -1, 1, 0, 0, -1};
   const std::vector<float> col = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  nlohmann::json p0 = {{"attributes", {{"POSITION", b.floats(pos, "VEC3", 3, true)}, {"TANGENT", b.floats(tan, "VEC4", 4)}, {"COLOR_0", b.floats(col, "VEC3", 3)}}}};
+  nlohmann::json p0 = {{"attributes",
+                        {{"POSITION", b.floats(pos, "VEC3", 3, true)},
+                         {"TANGENT", b.floats(tan, "VEC4", 4)},
+                         {"COLOR_0", b.floats(col, "VEC3", 3)}}}};
   nlohmann::json p1 = {{"attributes", {{"POSITION", b.floats(pos, "VEC3", 3, true)}}}};
   b.j["meshes"].push_back({{"primitives", {p0, p1}}});
   add_scene(b, {{{"mesh", 0}}});
@@ -209,7 +213,8 @@ TEST_CASE("gltf: what cannot be carried is named in a warning, never dropped sil
   GltfBuilder b;
   const int quad = restitch::test::add_quad_mesh(b);
   const std::vector<float> pos = {0, 0, 0, 1, 0, 0};
-  b.j["meshes"][quad]["primitives"].push_back({{"attributes", {{"POSITION", b.floats(pos, "VEC3", 3, true)}}}, {"mode", 1}});
+  b.j["meshes"][quad]["primitives"].push_back(
+      {{"attributes", {{"POSITION", b.floats(pos, "VEC3", 3, true)}}}, {"mode", 1}});
   b.j["animations"] = {{{"channels", nlohmann::json::array()}, {"samplers", nlohmann::json::array()}}};
   add_scene(b, {{{"mesh", quad}}});
   GltfLoadReport r;
@@ -346,7 +351,8 @@ TEST_CASE("gltf: the real models load with the MANIFEST's triangle counts and ro
   while (std::getline(manifest, line)) {
     std::vector<std::string> cols;
     std::size_t start = 0, tab;
-    while ((tab = line.find('\t', start)) != std::string::npos) cols.push_back(line.substr(start, tab - start)), start = tab + 1;
+    while ((tab = line.find('\t', start)) != std::string::npos)
+      cols.push_back(line.substr(start, tab - start)), start = tab + 1;
     cols.push_back(line.substr(start));
     if (cols.size() < 12) continue;
     INFO(cols[0]);

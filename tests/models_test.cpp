@@ -20,13 +20,13 @@ struct Expected {
 
 // Repeats from MANIFEST.tsv longer than tau (0.15 normalized) that restitch finds.
 const Expected kFound[] = {
-    {"blendswap-cc0_fence.glb", {22.45, 0, 0}},                    // ornament module pitch 22.45 along x
-    {"blendswap-cc0_pallet.glb", {0, 0, 18.47}},                   // deck boards pitch 18.47 along z
-    {"blendswap-cc0_verticalShelves.glb", {0, 37.9, 0}},           // shelf boards pitch ~37.9 along y
-    {"blendswap-ccby_dresserWithDrawers.glb", {0, 22.09, 0}},      // drawers pitch 22.09 along y
-    {"scopia_iron-railing-1.glb", {16.0, 0, 0}},                   // bars pitch 16.00 along x
-    {"scopia_japanese_style_screen.glb", {0, 20.0, 0}},            // lattice rails pitch 20.0 along y
-    {"sh3d-default_railing.glb", {0.118, 0, 0}},                   // balusters pitch 0.118 along x
+    {"blendswap-cc0_fence.glb", {22.45, 0, 0}},                // ornament module pitch 22.45 along x
+    {"blendswap-cc0_pallet.glb", {0, 0, 18.47}},               // deck boards pitch 18.47 along z
+    {"blendswap-cc0_verticalShelves.glb", {0, 37.9, 0}},       // shelf boards pitch ~37.9 along y
+    {"blendswap-ccby_dresserWithDrawers.glb", {0, 22.09, 0}},  // drawers pitch 22.09 along y
+    {"scopia_iron-railing-1.glb", {16.0, 0, 0}},               // bars pitch 16.00 along x
+    {"scopia_japanese_style_screen.glb", {0, 20.0, 0}},        // lattice rails pitch 20.0 along y
+    {"sh3d-default_railing.glb", {0.118, 0, 0}},               // balusters pitch 0.118 along x
 };
 // Listed repeats longer than tau that restitch does NOT find today (see the
 // README's "Known limits"): pallet stringers 58.41 along x and dresser columns

@@ -16,9 +16,9 @@
 #include "support/mesh_builders.hpp"
 
 using namespace restitch;
-using restitch::test::add_box;
 using Eigen::Vector3d;
 using Eigen::Vector3i;
+using restitch::test::add_box;
 
 namespace {
 
@@ -30,7 +30,6 @@ double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 90071992
 void repeat(std::vector<Vector3d>& v, const Vector3d& x, int n) {
   for (int i = 0; i < n; ++i) v.push_back(x);
 }
-
 
 // Jittered-grid samples on the surface of an axis-aligned box, spacing s.
 void sample_box(std::vector<Vector3d>& P, std::vector<Vector3d>& N, const Vector3d& lo, const Vector3d& hi, double s,

@@ -86,7 +86,8 @@ TEST_CASE("retarget: the bookshelf keeps both side panels; the sheared facade st
       double low = 0, high = 0;
       for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
         double xmin = 1e9, xmax = -1e9;
-        for (int c = 0; c < 3; ++c) xmin = std::min(xmin, double(m.V(m.F(f, c), 0))), xmax = std::max(xmax, double(m.V(m.F(f, c), 0)));
+        for (int c = 0; c < 3; ++c)
+          xmin = std::min(xmin, double(m.V(m.F(f, c), 0))), xmax = std::max(xmax, double(m.V(m.F(f, c), 0)));
         if (xmax < b.min.x() + 1e-4) low += 0.5 * double_area(m, f);
         if (xmin > b.max.x() - 1e-4) high += 0.5 * double_area(m, f);
       }
@@ -103,7 +104,8 @@ TEST_CASE("retarget: the bookshelf keeps both side panels; the sheared facade st
     const int axis = axis_of(p.analysis.lattice, p.sample.generators[1]);
     REQUIRE(axis >= 0);
     // The lattice itself is sheared: its axes are not orthogonal.
-    const Eigen::Vector3d u = p.analysis.lattice.A.col(axis_of(p.analysis.lattice, p.sample.generators[0])).normalized();
+    const Eigen::Vector3d u =
+        p.analysis.lattice.A.col(axis_of(p.analysis.lattice, p.sample.generators[0])).normalized();
     CHECK(std::abs(u.dot(p.analysis.lattice.A.col(axis).normalized())) > 0.05);
     Eigen::Array3i steps = Eigen::Array3i::Zero();
     steps[axis] = 2;

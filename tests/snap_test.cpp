@@ -44,7 +44,7 @@ TEST_CASE("snap: copies that are not exact keep the sample-based offset", "[offs
 
 TEST_CASE("snap: no supported repeat leaves the offset unchanged", "[offsets][snap]") {
   const auto P = repeated(300, 1, Eigen::Vector3d::Zero(), 11);  // one module only, 0.1 wide
-  const Eigen::Vector3d t(0.5, 0, 0);                             // nothing lies 0.5 away
+  const Eigen::Vector3d t(0.5, 0, 0);                            // nothing lies 0.5 away
   const SnapResult r = snap_offset(P, t);
   CHECK_FALSE(r.snapped);
   CHECK(r.offset == t);

@@ -65,9 +65,12 @@ int main(int argc, char** argv) {
   bool quick = false;
   std::string json_path = "bench.json";
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--quick")) quick = true;
-    else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
-    else return std::fprintf(stderr, "usage: bench [--quick] [--json FILE]\n"), 2;
+    if (!std::strcmp(argv[i], "--quick"))
+      quick = true;
+    else if (!std::strcmp(argv[i], "--json") && i + 1 < argc)
+      json_path = argv[++i];
+    else
+      return std::fprintf(stderr, "usage: bench [--quick] [--json FILE]\n"), 2;
   }
   nlohmann::json out;
   const std::vector<std::string> families = {"bookshelf", "facade", "facade_sheared", "fence", "pin_header"};
@@ -76,21 +79,28 @@ int main(int argc, char** argv) {
   std::printf("== analysis: ms per stage (SHOT, reduced matcher)\n");
   std::printf("%-15s %8s %8s %9s %9s %9s %9s %9s %9s %9s\n", "sample", "tris", "features", "sampling", "descript",
               "matching", "histogr", "refine", "lattice", "total");
-  const std::vector<std::size_t> sizes = quick ? std::vector<std::size_t>{0, 20000} : std::vector<std::size_t>{0, 20000, 50000, 200000};
+  const std::vector<std::size_t> sizes =
+      quick ? std::vector<std::size_t>{0, 20000} : std::vector<std::size_t>{0, 20000, 50000, 200000};
   for (const std::string& family : {std::string("bookshelf"), std::string("fence")}) {
     for (std::size_t target : sizes) {
       samples::SampleModel s = sample_near(family, target);
       const auto t = clock_type::now();
       auto a = analyze(s.mesh);
       const double total = ms_since(t);
-      if (!a) { std::printf("%s: %s\n", family.c_str(), a.status().message().c_str()); continue; }
+      if (!a) {
+        std::printf("%s: %s\n", family.c_str(), a.status().message().c_str());
+        continue;
+      }
       auto ms = [&](const char* k) { return a->timings_ms.count(k) ? a->timings_ms.at(k) : 0.0; };
-      std::printf("%-15s %8zu %8lld %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f\n", family.c_str(), s.mesh.triangle_count(),
-                  (long long)a->features.points.rows(), ms("sampling"), ms("descriptors"), ms("matching"), ms("histogram"),
-                  ms("refinement"), ms("lattice"), total);
-      out["analysis"].push_back({{"sample", family}, {"triangles", s.mesh.triangle_count()},
-                                 {"features", a->features.points.rows()}, {"dense", a->dense.points.rows()},
-                                 {"timings_ms", a->timings_ms}, {"total_ms", total},
+      std::printf("%-15s %8zu %8lld %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f\n", family.c_str(),
+                  s.mesh.triangle_count(), (long long)a->features.points.rows(), ms("sampling"), ms("descriptors"),
+                  ms("matching"), ms("histogram"), ms("refinement"), ms("lattice"), total);
+      out["analysis"].push_back({{"sample", family},
+                                 {"triangles", s.mesh.triangle_count()},
+                                 {"features", a->features.points.rows()},
+                                 {"dense", a->dense.points.rows()},
+                                 {"timings_ms", a->timings_ms},
+                                 {"total_ms", total},
                                  {"principal", a->principal.size()}});
     }
   }
@@ -115,8 +125,9 @@ int main(int argc, char** argv) {
     shot.radius = 0.09f;  // about 74 neighbours at this density
     DescriptorMatrix d;
     const double ms = best_of(5, [&] { shot.compute(pts, pts, d, {}); });
-    std::printf("\n== SHOT: %d points, radius %.2f: %.1f ms, %.0f points/s (PCL SHOTEstimation here: ~40-58k points/s)\n",
-                n, shot.radius, ms, n / (ms / 1000.0));
+    std::printf(
+        "\n== SHOT: %d points, radius %.2f: %.1f ms, %.0f points/s (PCL SHOTEstimation here: ~40-58k points/s)\n", n,
+        shot.radius, ms, n / (ms / 1000.0));
     out["shot"] = {{"points", n}, {"radius", shot.radius}, {"ms", ms}, {"points_per_s", n / (ms / 1000.0)}};
   }
 
@@ -133,7 +144,10 @@ int main(int argc, char** argv) {
     for (const std::string space : {"lattice", "regular"}) {
       AnyRetargeter r(s->mesh, *a, space);
       auto res = r.retarget(steps);
-      if (!res) { std::printf("%-15s %-8s %s\n", family.c_str(), space.c_str(), res.status().message().c_str()); continue; }
+      if (!res) {
+        std::printf("%-15s %-8s %s\n", family.c_str(), space.c_str(), res.status().message().c_str());
+        continue;
+      }
       const RetargetReport& rep = res->report;
       std::printf("%-15s %-8s %7d %7d %9.2f %12.5g %9.2f %9zu\n", family.c_str(), space.c_str(), rep.nodes, rep.labels,
                   rep.timings_ms.at("solve"), rep.energy, rep.timings_ms.at("stitch"), rep.triangles_out);
@@ -161,12 +175,14 @@ int main(int argc, char** argv) {
       const auto& t = res->report.timings_ms;
       std::printf("%7d %7d %7d %10.2f %10.2f %10.2f %10.2f\n", k, res->report.nodes, res->report.labels, t.at("energy"),
                   t.at("solve"), t.at("stitch"), t.at("total"));
-      out["scaling_labels"].push_back({{"steps", k}, {"nodes", res->report.nodes}, {"labels", res->report.labels}, {"timings_ms", t}});
+      out["scaling_labels"].push_back(
+          {{"steps", k}, {"nodes", res->report.nodes}, {"labels", res->report.labels}, {"timings_ms", t}});
     }
   }
   // 4b. Retarget (solve + stitch) against triangles: the bookshelf at growing detail, +2 columns.
-  std::printf("\n== retarget after analysis against triangles (bookshelf, +2 columns, second call)\n%9s %10s %10s %10s %10s\n",
-              "tris", "energy ms", "solve ms", "stitch ms", "total ms");
+  std::printf(
+      "\n== retarget after analysis against triangles (bookshelf, +2 columns, second call)\n%9s %10s %10s %10s %10s\n",
+      "tris", "energy ms", "solve ms", "stitch ms", "total ms");
   for (std::size_t target : sizes) {
     samples::SampleModel s = sample_near("bookshelf", target);
     auto a = analyze(s.mesh);
@@ -179,12 +195,13 @@ int main(int argc, char** argv) {
     RetargetReport rep;
     for (int i = 0; i < 3; ++i) {
       auto res = r.retarget(steps);
-      if (res && res->report.timings_ms.at("total") < best) best = res->report.timings_ms.at("total"), rep = res->report;
+      if (res && res->report.timings_ms.at("total") < best)
+        best = res->report.timings_ms.at("total"), rep = res->report;
     }
     std::printf("%9zu %10.2f %10.2f %10.2f %10.2f\n", s.mesh.triangle_count(), rep.timings_ms["energy"],
                 rep.timings_ms["solve"], rep.timings_ms["stitch"], rep.timings_ms["total"]);
-    out["scaling_triangles"].push_back({{"triangles", s.mesh.triangle_count()}, {"triangles_out", rep.triangles_out},
-                                        {"timings_ms", rep.timings_ms}});
+    out["scaling_triangles"].push_back(
+        {{"triangles", s.mesh.triangle_count()}, {"triangles_out", rep.triangles_out}, {"timings_ms", rep.timings_ms}});
   }
 
   // 5. Synthetic: 1000 nodes x 30 labels, 26-neighbourhood, truncated linear.
@@ -215,10 +232,12 @@ int main(int argc, char** argv) {
       std::vector<int> labels(std::size_t(mrf.node_count()), 0);
       AlphaExpansion<>().solve(mrf, labels, rep, {});
     });
-    std::printf("\n== synthetic: %d nodes x %d labels, %d edges (26-neighbourhood, truncated linear): %.1f ms, %d cycles, energy %.6g\n",
-                mrf.node_count(), m, mrf.edge_count(), ms, rep.cycles, rep.energy);
-    out["synthetic"] = {{"nodes", mrf.node_count()}, {"labels", m}, {"edges", mrf.edge_count()}, {"ms", ms},
-                        {"cycles", rep.cycles}, {"energy", rep.energy}};
+    std::printf(
+        "\n== synthetic: %d nodes x %d labels, %d edges (26-neighbourhood, truncated linear): %.1f ms, %d cycles, "
+        "energy %.6g\n",
+        mrf.node_count(), m, mrf.edge_count(), ms, rep.cycles, rep.energy);
+    out["synthetic"] = {{"nodes", mrf.node_count()}, {"labels", m},         {"edges", mrf.edge_count()}, {"ms", ms},
+                        {"cycles", rep.cycles},      {"energy", rep.energy}};
   }
 
   std::ofstream(json_path) << out.dump(2) << "\n";

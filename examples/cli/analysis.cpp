@@ -22,8 +22,12 @@ Result<Analysis> load_and_analyze(const std::string& input, const std::string& d
 }
 
 void add_policy_options(CLI::App* cmd, std::string& descriptor, std::string& matcher) {
-  cmd->add_option("--descriptor", descriptor, "descriptor policy")->check(CLI::IsMember(descriptor_names()))->capture_default_str();
-  cmd->add_option("--matcher", matcher, "matcher policy: brute_force (the reference) or reduced (PCA candidates, exact re-ranking); same result")
+  cmd->add_option("--descriptor", descriptor, "descriptor policy")
+      ->check(CLI::IsMember(descriptor_names()))
+      ->capture_default_str();
+  cmd->add_option(
+         "--matcher", matcher,
+         "matcher policy: brute_force (the reference) or reduced (PCA candidates, exact re-ranking); same result")
       ->check(CLI::IsMember(matcher_names()))
       ->capture_default_str();
 }
@@ -36,8 +40,8 @@ void print_analysis(const std::string& input, const Analysis& a) {
   };
   std::printf("%s\n", input.c_str());
   std::printf("  %lld features (%s descriptors, %s matching), %zu histogram peaks, %zu dominant offsets\n",
-              (long long)a.features.points.rows(), a.descriptor_name.c_str(), a.matcher_name.c_str(),
-              a.histogram_peaks, a.dominant.size());
+              (long long)a.features.points.rows(), a.descriptor_name.c_str(), a.matcher_name.c_str(), a.histogram_peaks,
+              a.dominant.size());
   std::printf("  sparsity: %.1f%% of offsets in the top 7%% of bins, %.1f%% in the top 20%%\n", 100 * a.sparsity.top7,
               100 * a.sparsity.top20);
   const auto principal = a.principal_model_units();
@@ -63,34 +67,52 @@ void print_analysis(const std::string& input, const Analysis& a) {
 
 void register_analysis_commands(CLI::App& app, int* exit_code) {
   {
-    struct Args { std::string input, json, descriptor = "shot", matcher = "brute_force"; };
+    struct Args {
+      std::string input, json, descriptor = "shot", matcher = "brute_force";
+    };
     auto args = std::make_shared<Args>();
-    CLI::App* cmd = app.add_subcommand("analyze", "Find how a model repeats: dominant and principal offsets, and its lattice");
+    CLI::App* cmd =
+        app.add_subcommand("analyze", "Find how a model repeats: dominant and principal offsets, and its lattice");
     cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
     add_policy_options(cmd, args->descriptor, args->matcher);
     cmd->add_option("--json", args->json, "also write the analysis as JSON to FILE, or - for standard output");
     cmd->callback([args, exit_code] {
       Mesh mesh;
       Result<Analysis> a = load_and_analyze(args->input, args->descriptor, args->matcher, mesh, args->json == "-");
-      if (!a) { *exit_code = fail(a.status()); return; }
+      if (!a) {
+        *exit_code = fail(a.status());
+        return;
+      }
       if (args->json != "-") print_analysis(args->input, *a);
       if (!args->json.empty())
-        if (Status s = write_json(analysis_json(*a), args->json); !s) { *exit_code = fail(s, true); return; }
+        if (Status s = write_json(analysis_json(*a), args->json); !s) {
+          *exit_code = fail(s, true);
+          return;
+        }
       *exit_code = exit_ok;
     });
   }
   {
-    struct Args { std::string input, output, descriptor = "shot"; double radius = 0; };
+    struct Args {
+      std::string input, output, descriptor = "shot";
+      double radius = 0;
+    };
     auto args = std::make_shared<Args>();
     CLI::App* cmd = app.add_subcommand(
-        "describe", "Compute SHOT or FPFH descriptors of a point set: x y z nx ny nz lines in, one CSV row per point out");
+        "describe",
+        "Compute SHOT or FPFH descriptors of a point set: x y z nx ny nz lines in, one CSV row per point out");
     cmd->add_option("input", args->input, "points with normals, one 'x y z nx ny nz' line each")->required();
-    cmd->add_option("--descriptor", args->descriptor, "descriptor")->check(CLI::IsMember(descriptor_names()))->capture_default_str();
+    cmd->add_option("--descriptor", args->descriptor, "descriptor")
+        ->check(CLI::IsMember(descriptor_names()))
+        ->capture_default_str();
     cmd->add_option("--radius", args->radius, "support radius, in the file's units")->required();
     cmd->add_option("-o,--output", args->output, "output CSV (NaN rows written as nan)")->required();
     cmd->callback([args, exit_code] {
       Result<PointSet> points = read_xyzn(args->input);
-      if (!points) { *exit_code = fail(points.status()); return; }
+      if (!points) {
+        *exit_code = fail(points.status());
+        return;
+      }
       DescriptorMatrix out;
       Status s;
       if (args->descriptor == "shot") {
@@ -102,8 +124,14 @@ void register_analysis_commands(CLI::App& app, int* exit_code) {
         d.radius = float(args->radius);
         s = d.compute(*points, *points, out, terminal_progress());
       }
-      if (!s) { *exit_code = fail(s); return; }
-      if (Status w = write_descriptor_csv(args->output, out); !w) { *exit_code = fail(w, true); return; }
+      if (!s) {
+        *exit_code = fail(s);
+        return;
+      }
+      if (Status w = write_descriptor_csv(args->output, out); !w) {
+        *exit_code = fail(w, true);
+        return;
+      }
       std::printf("wrote %s: %lld %s descriptors of %lld values\n", args->output.c_str(), (long long)out.rows(),
                   args->descriptor.c_str(), (long long)out.cols());
       *exit_code = exit_ok;

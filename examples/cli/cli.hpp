@@ -3,8 +3,8 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "restitch/progress.hpp"
@@ -15,12 +15,12 @@ namespace restitch::cli {
 /// Exit codes, documented in `restitch --help` and the README.
 enum ExitCode : int {
   exit_ok = 0,
-  exit_usage = 2,       ///< bad command line
-  exit_input = 3,       ///< the input cannot be read (missing, not glTF, corrupt)
-  exit_model = 4,       ///< the model is readable but unusable (empty, NaN, unsupported content)
-  exit_request = 5,     ///< the request is refused (out of range, too many labels)
-  exit_output = 6,      ///< the output cannot be written
-  exit_internal = 70,   ///< a bug
+  exit_usage = 2,      ///< bad command line
+  exit_input = 3,      ///< the input cannot be read (missing, not glTF, corrupt)
+  exit_model = 4,      ///< the model is readable but unusable (empty, NaN, unsupported content)
+  exit_request = 5,    ///< the request is refused (out of range, too many labels)
+  exit_output = 6,     ///< the output cannot be written
+  exit_internal = 70,  ///< a bug
 };
 
 /// Maps a library Status to an exit code (input side unless `writing`).

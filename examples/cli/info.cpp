@@ -7,15 +7,22 @@
 namespace restitch::cli {
 
 void register_info(CLI::App& app, int* exit_code) {
-  struct Args { std::string input, json; };
+  struct Args {
+    std::string input, json;
+  };
   auto args = std::make_shared<Args>();
-  CLI::App* cmd = app.add_subcommand("info", "Print meshes, primitives, materials, textures, vertices, triangles, bounding box and warnings of a glTF model");
+  CLI::App* cmd = app.add_subcommand(
+      "info",
+      "Print meshes, primitives, materials, textures, vertices, triangles, bounding box and warnings of a glTF model");
   cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
   cmd->add_option("--json", args->json, "also write the figures as JSON to FILE, or - for standard output");
   cmd->callback([args, exit_code] {
     GltfLoadReport report;
     Result<Mesh> mesh = load_gltf(args->input, &report);
-    if (!mesh) { *exit_code = fail(mesh.status()); return; }
+    if (!mesh) {
+      *exit_code = fail(mesh.status());
+      return;
+    }
     const BoundingBox box = bounding_box(*mesh);
     std::size_t tex_groups = 0;
     for (const Group& g : mesh->groups) tex_groups += g.attributes.uv_sets > 0;
@@ -46,7 +53,10 @@ void register_info(CLI::App& app, int* exit_code) {
       for (const std::string& w : report.warnings) std::printf("    - %s\n", w.c_str());
     }
     if (!args->json.empty())
-      if (Status s = write_json(j, args->json); !s) { *exit_code = fail(s, true); return; }
+      if (Status s = write_json(j, args->json); !s) {
+        *exit_code = fail(s, true);
+        return;
+      }
     *exit_code = exit_ok;
   });
 }
@@ -56,18 +66,29 @@ void register_info(CLI::App& app, int* exit_code) {
 namespace restitch::cli {
 
 void register_convert(CLI::App& app, int* exit_code) {
-  struct Args { std::string input, output; };
+  struct Args {
+    std::string input, output;
+  };
   auto args = std::make_shared<Args>();
-  CLI::App* cmd = app.add_subcommand("convert", "Read a glTF model and write it back as restitch writes (world space, one mesh; .glb or .gltf by extension)");
+  CLI::App* cmd = app.add_subcommand(
+      "convert",
+      "Read a glTF model and write it back as restitch writes (world space, one mesh; .glb or .gltf by extension)");
   cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
   cmd->add_option("-o,--output", args->output, "output model (.glb or .gltf)")->required();
   cmd->callback([args, exit_code] {
     GltfLoadReport report;
     Result<Mesh> mesh = load_gltf(args->input, &report);
-    if (!mesh) { *exit_code = fail(mesh.status()); return; }
+    if (!mesh) {
+      *exit_code = fail(mesh.status());
+      return;
+    }
     for (const std::string& w : report.warnings) std::fprintf(stderr, "restitch: warning: %s\n", w.c_str());
-    if (Status s = save_gltf(*mesh, args->output); !s) { *exit_code = fail(s, true); return; }
-    std::printf("wrote %s: %zu vertices, %zu triangles\n", args->output.c_str(), mesh->vertex_count(), mesh->triangle_count());
+    if (Status s = save_gltf(*mesh, args->output); !s) {
+      *exit_code = fail(s, true);
+      return;
+    }
+    std::printf("wrote %s: %zu vertices, %zu triangles\n", args->output.c_str(), mesh->vertex_count(),
+                mesh->triangle_count());
     *exit_code = exit_ok;
   });
 }

@@ -1,7 +1,7 @@
 // restitch: resize man-made 3D models along their repeats.
+#include <unistd.h>
 #include <cstdio>
 #include <iostream>
-#include <unistd.h>
 
 #include "cli.hpp"
 #include "restitch/detail/file.hpp"
@@ -11,16 +11,21 @@ namespace restitch::cli {
 int exit_code_for(const Status& s, bool writing) {
   if (writing && s.code() == StatusCode::io_error) return exit_output;
   switch (s.code()) {
-    case StatusCode::ok: return exit_ok;
+    case StatusCode::ok:
+      return exit_ok;
     case StatusCode::io_error:
-    case StatusCode::parse_error: return exit_input;
+    case StatusCode::parse_error:
+      return exit_input;
     case StatusCode::invalid_mesh:
     case StatusCode::unsupported:
-    case StatusCode::no_repetition: return exit_model;
+    case StatusCode::no_repetition:
+      return exit_model;
     case StatusCode::invalid_argument:
     case StatusCode::too_large:
-    case StatusCode::cancelled: return exit_request;
-    case StatusCode::internal: return exit_internal;
+    case StatusCode::cancelled:
+      return exit_request;
+    case StatusCode::internal:
+      return exit_internal;
   }
   return exit_internal;
 }

@@ -10,12 +10,16 @@
 namespace restitch::cli {
 
 void register_sample(CLI::App& app, int* exit_code) {
-  struct Args { std::string name, output; bool list = false; };
+  struct Args {
+    std::string name, output;
+    bool list = false;
+  };
   auto args = std::make_shared<Args>();
   std::string footer = "Samples and their parameters (--NAME VALUE):\n";
   for (const samples::SampleInfo& info : samples::catalog()) {
     footer += "  " + info.name + ": " + info.description + "\n   ";
-    for (const samples::Parameter& p : info.parameters) footer += " --" + p.name + " " + CLI::detail::to_string(p.value);
+    for (const samples::Parameter& p : info.parameters)
+      footer += " --" + p.name + " " + CLI::detail::to_string(p.value);
     footer += "\n";
   }
   CLI::App* cmd = app.add_subcommand("sample", "Generate a parametric sample model with exactly known repeats");
@@ -57,8 +61,14 @@ void register_sample(CLI::App& app, int* exit_code) {
       overrides[key.substr(2)] = v;
     }
     Result<samples::SampleModel> model = samples::generate(args->name, overrides);
-    if (!model) { *exit_code = fail(model.status()); return; }
-    if (Status s = save_gltf(model->mesh, args->output); !s) { *exit_code = fail(s, true); return; }
+    if (!model) {
+      *exit_code = fail(model.status());
+      return;
+    }
+    if (Status s = save_gltf(model->mesh, args->output); !s) {
+      *exit_code = fail(s, true);
+      return;
+    }
     std::printf("wrote %s: sample '%s', %zu vertices, %zu triangles\n", args->output.c_str(), args->name.c_str(),
                 model->mesh.vertex_count(), model->mesh.triangle_count());
     for (std::size_t g = 0; g < model->generators.size(); ++g) {

@@ -283,7 +283,8 @@ Result<Analysis> analyze(const Mesh& mesh, const AnalysisOptions<D, M, Det>& opt
   if (options.snap_to_vertices && a.axes.real_count > 0) {
     // Unique vertex positions, normalized, in a fixed order (offsets/snap.hpp).
     std::vector<std::array<float, 3>> unique(std::size_t(mesh.V.rows()));
-    for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) unique[std::size_t(i)] = {mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2)};
+    for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+      unique[std::size_t(i)] = {mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2)};
     std::sort(unique.begin(), unique.end());
     unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
     Eigen::Matrix<double, Eigen::Dynamic, 3> P(Eigen::Index(unique.size()), 3);

@@ -46,8 +46,8 @@
 namespace restitch {
 
 struct RetargetOptions {
-  Neighbourhood neighbourhood = Neighbourhood::n26;    ///< the paper's; n6 as an option
-  SetDistance set_distance = SetDistance::hausdorff;   ///< the paper's; mean_nearest as an option
+  Neighbourhood neighbourhood = Neighbourhood::n26;   ///< the paper's; n6 as an option
+  SetDistance set_distance = SetDistance::hausdorff;  ///< the paper's; mean_nearest as an option
   /// Refuse requests whose nodes x labels exceed this (memory and time grow with it).
   std::size_t max_problem_size = 2'000'000;
   /// Also report, for every output face, the index of the label of the cell it lies in (for display).
@@ -62,17 +62,18 @@ struct RetargetReport {
   double energy = 0;
   bool non_metric = false;
   std::size_t triangles_in = 0, triangles_out = 0, vertices_out = 0, regions = 0;
-  Eigen::Vector3d size_in = Eigen::Vector3d::Zero(), size_out = Eigen::Vector3d::Zero();  ///< bounding boxes, model units
-  std::map<std::string, double> timings_ms;  ///< energy, solve, stitch, total (informative only)
+  Eigen::Vector3d size_in = Eigen::Vector3d::Zero(),
+                  size_out = Eigen::Vector3d::Zero();  ///< bounding boxes, model units
+  std::map<std::string, double> timings_ms;            ///< energy, solve, stitch, total (informative only)
 };
 
 struct RetargetResult {
   Mesh mesh;
   RetargetReport report;
-  Lattice grid;                             ///< the grid the labels live on (model units)
-  std::vector<Eigen::Array3i> labels;       ///< the label shifts, by label index
-  std::vector<int> cell_labels;             ///< label index per output cell (linear order)
-  std::vector<int> face_labels;             ///< label index per output face (when requested)
+  Lattice grid;                        ///< the grid the labels live on (model units)
+  std::vector<Eigen::Array3i> labels;  ///< the label shifts, by label index
+  std::vector<int> cell_labels;        ///< label index per output cell (linear order)
+  std::vector<int> face_labels;        ///< label index per output face (when requested)
 };
 
 template <class LabelSpace = LatticeLabels, class Solver = AlphaExpansion<>, class Stitcher = ClipStitcher>
@@ -97,8 +98,8 @@ class Retargeter {
     if (!status_) return;
     if (std::int64_t(grid_.cells.prod()) > std::int64_t(options_.max_problem_size))
       status_ = error(StatusCode::too_large, "the label grid has " + std::to_string(grid_.cells.prod()) +
-                                                  " cells, more than max_problem_size (" +
-                                                  std::to_string(options_.max_problem_size) + ")");
+                                                 " cells, more than max_problem_size (" +
+                                                 std::to_string(options_.max_problem_size) + ")");
     if (!status_) return;
     cells_ = std::make_unique<CellDescriptors>(analysis, grid_, options_.set_distance);
     if constexpr (has_prepared_stitch_v<Stitcher>) status_ = stitcher_.prepare(mesh, grid_, cache_);
@@ -114,7 +115,9 @@ class Retargeter {
   Result<RetargetResult> retarget(const Eigen::Array3i& steps, const Progress& progress = {}) {
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
-    auto ms_since = [](clock::time_point t) { return std::chrono::duration<double, std::milli>(clock::now() - t).count(); };
+    auto ms_since = [](clock::time_point t) {
+      return std::chrono::duration<double, std::milli>(clock::now() - t).count();
+    };
     RESTITCH_TRY(status_);
     RetargetResult out;
     RetargetReport& rep = out.report;
@@ -228,10 +231,10 @@ class Retargeter {
     const Eigen::Array3i k = rep.grid_steps;
     for (int a = 0; a < 3; ++a)
       if (grid_.cells[a] + k[a] < 1)
-        return error(StatusCode::invalid_argument,
-                     "cannot shrink axis " + std::to_string(a + 1) + " by " + std::to_string(-steps[a]) +
-                         " steps: the model has " + std::to_string(grid_.cells[a]) + " cells along it (at most " +
-                         std::to_string(grid_.cells[a] - 1) + " steps can be removed)");
+        return error(StatusCode::invalid_argument, "cannot shrink axis " + std::to_string(a + 1) + " by " +
+                                                       std::to_string(-steps[a]) + " steps: the model has " +
+                                                       std::to_string(grid_.cells[a]) + " cells along it (at most " +
+                                                       std::to_string(grid_.cells[a] - 1) + " steps can be removed)");
     rep.out_cells = grid_.cells + k;
     const double nodes = double(rep.out_cells.prod());
     const double labels = double((k.abs() + 1).prod());
@@ -285,9 +288,11 @@ inline Result<Eigen::Array3i> principal_steps(const Analysis& analysis, const st
   for (std::size_t i = next; i < steps.size(); ++i)
     if (steps[i] != 0)
       return analysis.principal.empty()
-                 ? error(StatusCode::no_repetition, "no repetition was found in this model, so there is nothing to resize along")
-                 : error(StatusCode::invalid_argument, "the model has " + std::to_string(analysis.principal.size()) +
-                                                           " principal offset(s), so at most that many steps can be non-zero");
+                 ? error(StatusCode::no_repetition,
+                         "no repetition was found in this model, so there is nothing to resize along")
+                 : error(StatusCode::invalid_argument,
+                         "the model has " + std::to_string(analysis.principal.size()) +
+                             " principal offset(s), so at most that many steps can be non-zero");
   return out;
 }
 

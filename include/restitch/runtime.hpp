@@ -78,31 +78,47 @@ class AnyRetargeter {
   }
   Status status() const {
     if (!status_) return status_;
-    return std::visit([](const auto& r) -> Status {
-      if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>) return {};
-      else return r.status();
-    }, r_);
+    return std::visit(
+        [](const auto& r) -> Status {
+          if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>)
+            return {};
+          else
+            return r.status();
+        },
+        r_);
   }
   Result<RetargetResult> retarget(const Eigen::Array3i& steps, const Progress& progress = {}) {
     RESTITCH_TRY(status());
-    return std::visit([&](auto& r) -> Result<RetargetResult> {
-      if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>) return error(StatusCode::internal, "no retargeter");
-      else return r.retarget(steps, progress);
-    }, r_);
+    return std::visit(
+        [&](auto& r) -> Result<RetargetResult> {
+          if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>)
+            return error(StatusCode::internal, "no retargeter");
+          else
+            return r.retarget(steps, progress);
+        },
+        r_);
   }
   Result<SeamMrf> labeling_problem(const Eigen::Array3i& steps) {
     RESTITCH_TRY(status());
-    return std::visit([&](auto& r) -> Result<SeamMrf> {
-      if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>) return error(StatusCode::internal, "no retargeter");
-      else return r.labeling_problem(steps);
-    }, r_);
+    return std::visit(
+        [&](auto& r) -> Result<SeamMrf> {
+          if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>)
+            return error(StatusCode::internal, "no retargeter");
+          else
+            return r.labeling_problem(steps);
+        },
+        r_);
   }
   Result<Eigen::Array3i> steps_for_size(const Eigen::Vector3d& size) const {
     RESTITCH_TRY(status());
-    return std::visit([&](const auto& r) -> Result<Eigen::Array3i> {
-      if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>) return error(StatusCode::internal, "no retargeter");
-      else return r.steps_for_size(size);
-    }, r_);
+    return std::visit(
+        [&](const auto& r) -> Result<Eigen::Array3i> {
+          if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>)
+            return error(StatusCode::internal, "no retargeter");
+          else
+            return r.steps_for_size(size);
+        },
+        r_);
   }
 
  private:

@@ -21,30 +21,40 @@ namespace restitch {
 /// What went wrong, coarse enough to branch on. The message says the rest.
 enum class StatusCode {
   ok = 0,
-  invalid_argument,   ///< a parameter or request outside its documented range
-  io_error,           ///< a file could not be opened, read, written or renamed
-  parse_error,        ///< a file is not valid glTF (magic, JSON, accessors...)
-  invalid_mesh,       ///< empty mesh, NaN coordinates, out-of-range indices
-  unsupported,        ///< valid input that restitch cannot carry
-  no_repetition,      ///< the model has no repeat to resize along
-  too_large,          ///< the request exceeds a documented limit
-  cancelled,          ///< a progress callback asked to stop
-  internal,           ///< a bug: please report it
+  invalid_argument,  ///< a parameter or request outside its documented range
+  io_error,          ///< a file could not be opened, read, written or renamed
+  parse_error,       ///< a file is not valid glTF (magic, JSON, accessors...)
+  invalid_mesh,      ///< empty mesh, NaN coordinates, out-of-range indices
+  unsupported,       ///< valid input that restitch cannot carry
+  no_repetition,     ///< the model has no repeat to resize along
+  too_large,         ///< the request exceeds a documented limit
+  cancelled,         ///< a progress callback asked to stop
+  internal,          ///< a bug: please report it
 };
 
 /// Human-readable name of a code ("parse_error").
 inline const char* to_string(StatusCode c) noexcept {
   switch (c) {
-    case StatusCode::ok: return "ok";
-    case StatusCode::invalid_argument: return "invalid_argument";
-    case StatusCode::io_error: return "io_error";
-    case StatusCode::parse_error: return "parse_error";
-    case StatusCode::invalid_mesh: return "invalid_mesh";
-    case StatusCode::unsupported: return "unsupported";
-    case StatusCode::no_repetition: return "no_repetition";
-    case StatusCode::too_large: return "too_large";
-    case StatusCode::cancelled: return "cancelled";
-    case StatusCode::internal: return "internal";
+    case StatusCode::ok:
+      return "ok";
+    case StatusCode::invalid_argument:
+      return "invalid_argument";
+    case StatusCode::io_error:
+      return "io_error";
+    case StatusCode::parse_error:
+      return "parse_error";
+    case StatusCode::invalid_mesh:
+      return "invalid_mesh";
+    case StatusCode::unsupported:
+      return "unsupported";
+    case StatusCode::no_repetition:
+      return "no_repetition";
+    case StatusCode::too_large:
+      return "too_large";
+    case StatusCode::cancelled:
+      return "cancelled";
+    case StatusCode::internal:
+      return "internal";
   }
   return "unknown";
 }
@@ -73,8 +83,8 @@ inline Status error(StatusCode code, std::string message) { return Status(code, 
 template <class T>
 class Result {
  public:
-  Result(T value) : v_(std::move(value)) {}         // NOLINT(implicit): return a value directly
-  Result(Status status) : v_(std::move(status)) {   // NOLINT(implicit): return an error directly
+  Result(T value) : v_(std::move(value)) {}        // NOLINT(implicit): return a value directly
+  Result(Status status) : v_(std::move(status)) {  // NOLINT(implicit): return an error directly
     assert(!std::get<Status>(v_).ok() && "Result built from an ok Status carries no value");
   }
 

@@ -30,12 +30,9 @@ inline std::string base64(const std::vector<std::uint8_t>& in) {
 
 /// Accumulates buffer views and accessors into one buffer.
 struct GltfBuilder {
-  nlohmann::json j = {{"asset", {{"version", "2.0"}}},
-                      {"buffers", nlohmann::json::array()},
-                      {"bufferViews", nlohmann::json::array()},
-                      {"accessors", nlohmann::json::array()},
-                      {"meshes", nlohmann::json::array()},
-                      {"nodes", nlohmann::json::array()},
+  nlohmann::json j = {{"asset", {{"version", "2.0"}}},          {"buffers", nlohmann::json::array()},
+                      {"bufferViews", nlohmann::json::array()}, {"accessors", nlohmann::json::array()},
+                      {"meshes", nlohmann::json::array()},      {"nodes", nlohmann::json::array()},
                       {"scenes", nlohmann::json::array()}};
   std::vector<std::uint8_t> bin;
 
@@ -51,7 +48,8 @@ struct GltfBuilder {
     nlohmann::json a = {{"bufferView", bv}, {"componentType", 5126}, {"count", v.size() / comps}, {"type", type}};
     if (minmax) {
       std::vector<float> lo(comps, 1e30f), hi(comps, -1e30f);
-      for (std::size_t i = 0; i < v.size(); ++i) lo[i % comps] = std::min(lo[i % comps], v[i]), hi[i % comps] = std::max(hi[i % comps], v[i]);
+      for (std::size_t i = 0; i < v.size(); ++i)
+        lo[i % comps] = std::min(lo[i % comps], v[i]), hi[i % comps] = std::max(hi[i % comps], v[i]);
       a["min"] = lo, a["max"] = hi;
     }
     j["accessors"].push_back(a);
@@ -77,7 +75,9 @@ struct GltfBuilder {
     std::string js = k.dump();
     while (js.size() % 4) js += ' ';
     std::vector<std::uint8_t> out;
-    auto u32 = [&](std::uint32_t v) { for (int i = 0; i < 4; ++i) out.push_back(std::uint8_t(v >> (8 * i))); };
+    auto u32 = [&](std::uint32_t v) {
+      for (int i = 0; i < 4; ++i) out.push_back(std::uint8_t(v >> (8 * i)));
+    };
     out.insert(out.end(), {'g', 'l', 'T', 'F'});
     u32(2);
     u32(std::uint32_t(12 + 8 + js.size() + 8 + b.size()));
@@ -96,14 +96,15 @@ inline int add_quad_mesh(GltfBuilder& b, int mode = 4, bool indexed = true, int 
   const std::vector<float> pos = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
   const std::vector<float> nrm = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
   const std::vector<float> uv = {0, 1, 1, 1, 1, 0, 0, 0};
-  nlohmann::json prim = {{"attributes", {{"POSITION", b.floats(pos, "VEC3", 3, true)},
-                                         {"NORMAL", b.floats(nrm, "VEC3", 3)},
-                                         {"TEXCOORD_0", b.floats(uv, "VEC2", 2)}}},
+  nlohmann::json prim = {{"attributes",
+                          {{"POSITION", b.floats(pos, "VEC3", 3, true)},
+                           {"NORMAL", b.floats(nrm, "VEC3", 3)},
+                           {"TEXCOORD_0", b.floats(uv, "VEC2", 2)}}},
                          {"mode", mode}};
   if (indexed) {
-    std::vector<std::uint16_t> idx = mode == 4 ? std::vector<std::uint16_t>{0, 1, 2, 0, 2, 3}
-                                   : mode == 5 ? std::vector<std::uint16_t>{0, 1, 3, 2}
-                                               : std::vector<std::uint16_t>{0, 1, 2, 3};
+    std::vector<std::uint16_t> idx = mode == 4   ? std::vector<std::uint16_t>{0, 1, 2, 0, 2, 3}
+                                     : mode == 5 ? std::vector<std::uint16_t>{0, 1, 3, 2}
+                                                 : std::vector<std::uint16_t>{0, 1, 2, 3};
     prim["indices"] = b.indices(idx);
   }
   if (material >= 0) prim["material"] = material;

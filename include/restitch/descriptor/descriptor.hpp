@@ -48,12 +48,10 @@ namespace detail {
 template <class T, class = void>
 struct is_descriptor_policy : std::false_type {};
 template <class T>
-struct is_descriptor_policy<
-    T, std::void_t<decltype(std::declval<const T&>().dimension()),
-                   decltype(std::declval<const T&>().compute(std::declval<const PointSet&>(),
-                                                             std::declval<const PointSet&>(),
-                                                             std::declval<DescriptorMatrix&>(),
-                                                             std::declval<const Progress&>()))>>
+struct is_descriptor_policy<T, std::void_t<decltype(std::declval<const T&>().dimension()),
+                                           decltype(std::declval<const T&>().compute(
+                                               std::declval<const PointSet&>(), std::declval<const PointSet&>(),
+                                               std::declval<DescriptorMatrix&>(), std::declval<const Progress&>()))>>
     : std::bool_constant<std::is_convertible_v<decltype(std::declval<const T&>().dimension()), int> &&
                          std::is_same_v<decltype(std::declval<const T&>().compute(
                                             std::declval<const PointSet&>(), std::declval<const PointSet&>(),

@@ -51,7 +51,6 @@
 #include "restitch/mesh.hpp"
 #include "restitch/status.hpp"
 
-
 namespace restitch {
 namespace detail {
 

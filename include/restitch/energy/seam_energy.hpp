@@ -7,10 +7,9 @@
 // tessellation, so a cell's set describes its geometry rather than how finely
 // it was triangulated (a Hausdorff distance is ruled by its worst point, and a
 // densely tessellated detail would otherwise dominate), and they are few
-// enough that a new pair of cells costs well under a millisecond and measures the distance between two cells' descriptor sets:
-// the Hausdorff distance under the L2 descriptor distance (default), or the
-// mean of nearest distances, symmetrised (an option; not a metric, so the
-// solver's non-metric detection may fire). Distances between two cells are
+// enough that a new pair of cells costs well under a millisecond and measures the distance between two cells'
+// descriptor sets: the Hausdorff distance under the L2 descriptor distance (default), or the mean of nearest distances,
+// symmetrised (an option; not a metric, so the solver's non-metric detection may fire). Distances between two cells are
 // computed once and cached for the life of the object, so repeated retargets
 // of one analysis (the live slider) only compute pairs they have not seen.
 //
@@ -63,12 +62,14 @@ class CellDescriptors {
   /// Groups the features of `analysis` by the cells of `grid` (model units).
   CellDescriptors(const Analysis& analysis, const Lattice& grid, SetDistance kind)
       : descriptors_(&analysis.descriptors), cells_(grid.cells), kind_(kind) {
-    const Eigen::Index n = std::min<Eigen::Index>(analysis.features.points.rows(), Eigen::Index(analysis.sampled_features));
+    const Eigen::Index n =
+        std::min<Eigen::Index>(analysis.features.points.rows(), Eigen::Index(analysis.sampled_features));
     members_.assign(std::size_t(cells_.prod()), {});
     const Eigen::Matrix3d Ainv = grid.A.inverse();
     for (Eigen::Index i = 0; i < n; ++i) {
       if (i >= analysis.descriptors.rows() || !analysis.descriptors.row(i).allFinite()) continue;
-      const Eigen::Vector3d p = analysis.normalization.to_model(analysis.features.points.row(i).cast<double>().transpose());
+      const Eigen::Vector3d p =
+          analysis.normalization.to_model(analysis.features.points.row(i).cast<double>().transpose());
       const Eigen::Vector3d c = Ainv * (p - grid.origin);
       Eigen::Array3i cell;
       for (int a = 0; a < 3; ++a) cell[a] = std::clamp(int(std::floor(c[a])), 0, cells_[a] - 1);
@@ -230,7 +231,9 @@ class SeamMrf {
     return lab;
   }
 
-  static int linear(const Eigen::Array3i& c, const Eigen::Array3i& dims) { return c[0] + dims[0] * (c[1] + dims[1] * c[2]); }
+  static int linear(const Eigen::Array3i& c, const Eigen::Array3i& dims) {
+    return c[0] + dims[0] * (c[1] + dims[1] * c[2]);
+  }
   static Eigen::Array3i unlinear(int i, const Eigen::Array3i& dims) {
     return Eigen::Array3i(i % dims[0], (i / dims[0]) % dims[1], i / (dims[0] * dims[1]));
   }

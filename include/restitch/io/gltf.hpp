@@ -125,8 +125,9 @@ inline std::string sniff_mime(const std::vector<unsigned char>& b) {
 inline Status read_accessor(const tinygltf::Model& m, int index, std::vector<double>& out, int& components,
                             const std::string& where) {
   if (index < 0 || index >= int(m.accessors.size()))
-    return gltf_error(StatusCode::parse_error, where, "refers to accessor " + std::to_string(index) +
-                                                          ", but the file has " + std::to_string(m.accessors.size()));
+    return gltf_error(
+        StatusCode::parse_error, where,
+        "refers to accessor " + std::to_string(index) + ", but the file has " + std::to_string(m.accessors.size()));
   const tinygltf::Accessor& a = m.accessors[index];
   const std::string here = where + " (accessor " + std::to_string(index) + ")";
   components = tinygltf::GetNumComponentsInType(a.type);
@@ -140,14 +141,46 @@ inline Status read_accessor(const tinygltf::Model& m, int index, std::vector<dou
 
   auto decode = [&](const unsigned char* p, int comp_type, bool normalized) -> double {
     switch (comp_type) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); return f; }
-      case TINYGLTF_COMPONENT_TYPE_DOUBLE: { double d; std::memcpy(&d, p, 8); return d; }
-      case TINYGLTF_COMPONENT_TYPE_BYTE: { std::int8_t v; std::memcpy(&v, p, 1); return normalized ? std::max(v / 127.0, -1.0) : v; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: { std::uint8_t v; std::memcpy(&v, p, 1); return normalized ? v / 255.0 : v; }
-      case TINYGLTF_COMPONENT_TYPE_SHORT: { std::int16_t v; std::memcpy(&v, p, 2); return normalized ? std::max(v / 32767.0, -1.0) : v; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t v; std::memcpy(&v, p, 2); return normalized ? v / 65535.0 : v; }
-      case TINYGLTF_COMPONENT_TYPE_INT: { std::int32_t v; std::memcpy(&v, p, 4); return v; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { std::uint32_t v; std::memcpy(&v, p, 4); return v; }
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+        float f;
+        std::memcpy(&f, p, 4);
+        return f;
+      }
+      case TINYGLTF_COMPONENT_TYPE_DOUBLE: {
+        double d;
+        std::memcpy(&d, p, 8);
+        return d;
+      }
+      case TINYGLTF_COMPONENT_TYPE_BYTE: {
+        std::int8_t v;
+        std::memcpy(&v, p, 1);
+        return normalized ? std::max(v / 127.0, -1.0) : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+        std::uint8_t v;
+        std::memcpy(&v, p, 1);
+        return normalized ? v / 255.0 : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        std::int16_t v;
+        std::memcpy(&v, p, 2);
+        return normalized ? std::max(v / 32767.0, -1.0) : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        std::uint16_t v;
+        std::memcpy(&v, p, 2);
+        return normalized ? v / 65535.0 : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_INT: {
+        std::int32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+        std::uint32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+      }
     }
     return 0.0;
   };
@@ -155,25 +188,30 @@ inline Status read_accessor(const tinygltf::Model& m, int index, std::vector<dou
   auto locate = [&](int bv, std::size_t offset, std::size_t stride, std::size_t elem, std::size_t n,
                     const unsigned char*& base) -> Status {
     if (bv < 0 || bv >= int(m.bufferViews.size()))
-      return gltf_error(StatusCode::parse_error, here, "refers to bufferView " + std::to_string(bv) + ", which does not exist");
+      return gltf_error(StatusCode::parse_error, here,
+                        "refers to bufferView " + std::to_string(bv) + ", which does not exist");
     const tinygltf::BufferView& view = m.bufferViews[bv];
     if (view.buffer < 0 || view.buffer >= int(m.buffers.size()))
       return gltf_error(StatusCode::parse_error, here, "its bufferView refers to a buffer that does not exist");
     const tinygltf::Buffer& buf = m.buffers[view.buffer];
-    if (n == 0) { base = nullptr; return {}; }
+    if (n == 0) {
+      base = nullptr;
+      return {};
+    }
     const std::size_t need = offset + stride * (n - 1) + elem;
     if (view.byteOffset + view.byteLength > buf.data.size() || need > view.byteLength)
       return gltf_error(StatusCode::parse_error, here,
                         "reads past the end of its data (needs " + std::to_string(need) + " bytes of bufferView " +
-                            std::to_string(bv) + ", which has " + std::to_string(view.byteLength) +
-                            "; buffer " + std::to_string(view.buffer) + " holds " + std::to_string(buf.data.size()) + ")");
+                            std::to_string(bv) + ", which has " + std::to_string(view.byteLength) + "; buffer " +
+                            std::to_string(view.buffer) + " holds " + std::to_string(buf.data.size()) + ")");
     base = buf.data.data() + view.byteOffset + offset;
     return {};
   };
 
   const std::size_t elem = std::size_t(components) * csize;
   if (a.bufferView >= 0) {
-    const tinygltf::BufferView& view = m.bufferViews.size() > std::size_t(a.bufferView) ? m.bufferViews[a.bufferView] : tinygltf::BufferView();
+    const tinygltf::BufferView& view =
+        m.bufferViews.size() > std::size_t(a.bufferView) ? m.bufferViews[a.bufferView] : tinygltf::BufferView();
     const std::size_t stride = view.byteStride ? view.byteStride : elem;
     const unsigned char* base = nullptr;
     RESTITCH_TRY(locate(a.bufferView, a.byteOffset, stride, elem, count, base));
@@ -194,7 +232,8 @@ inline Status read_accessor(const tinygltf::Model& m, int index, std::vector<dou
       if (!(idx >= 0 && idx < double(count)))
         return gltf_error(StatusCode::parse_error, here, "has a sparse index out of range");
       for (int c = 0; c < components; ++c)
-        out[std::size_t(idx) * components + c] = decode(vb + s * elem + std::size_t(c) * csize, a.componentType, a.normalized);
+        out[std::size_t(idx) * components + c] =
+            decode(vb + s * elem + std::size_t(c) * csize, a.componentType, a.normalized);
     }
   }
   return {};
@@ -208,7 +247,8 @@ inline Eigen::Matrix4d node_local_matrix(const tinygltf::Node& n) {
     return M;
   }
   Eigen::Matrix4d T = Eigen::Matrix4d::Identity(), R = Eigen::Matrix4d::Identity(), S = Eigen::Matrix4d::Identity();
-  if (n.translation.size() == 3) T.block<3, 1>(0, 3) = Eigen::Vector3d(n.translation[0], n.translation[1], n.translation[2]);
+  if (n.translation.size() == 3)
+    T.block<3, 1>(0, 3) = Eigen::Vector3d(n.translation[0], n.translation[1], n.translation[2]);
   if (n.rotation.size() == 4) {
     Eigen::Quaterniond q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
     if (q.norm() > 0) q.normalize();
@@ -250,18 +290,27 @@ inline void triangulate(int mode, const std::vector<std::uint32_t>& idx, std::ve
 
 inline const char* mode_name(int mode) {
   switch (mode) {
-    case TINYGLTF_MODE_POINTS: return "POINTS";
-    case TINYGLTF_MODE_LINE: return "LINES";
-    case TINYGLTF_MODE_LINE_LOOP: return "LINE_LOOP";
-    case TINYGLTF_MODE_LINE_STRIP: return "LINE_STRIP";
+    case TINYGLTF_MODE_POINTS:
+      return "POINTS";
+    case TINYGLTF_MODE_LINE:
+      return "LINES";
+    case TINYGLTF_MODE_LINE_LOOP:
+      return "LINE_LOOP";
+    case TINYGLTF_MODE_LINE_STRIP:
+      return "LINE_STRIP";
   }
   return "an unknown mode";
 }
 
 // Extensions restitch decodes or passes through untouched with the materials.
 inline bool extension_is_carried(const std::string& e) {
-  static const char* known[] = {"KHR_materials_", "KHR_texture_transform", "KHR_texture_basisu", "EXT_texture_webp",
-                                "EXT_texture_avif", "KHR_mesh_quantization", "KHR_materials_emissive_strength"};
+  static const char* known[] = {"KHR_materials_",
+                                "KHR_texture_transform",
+                                "KHR_texture_basisu",
+                                "EXT_texture_webp",
+                                "EXT_texture_avif",
+                                "KHR_mesh_quantization",
+                                "KHR_materials_emissive_strength"};
   for (const char* k : known)
     if (e.rfind(k, 0) == 0) return true;
   return false;
@@ -278,7 +327,8 @@ inline Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadRepor
                                                 ", which restitch cannot decode (re-export the model without it)");
   for (const std::string& e : model.extensionsUsed)
     if (!extension_is_carried(e)) warn("extension " + e + " is not carried: what it adds is dropped");
-  if (!model.animations.empty()) warn(std::to_string(model.animations.size()) + " animation(s) dropped: the output is static");
+  if (!model.animations.empty())
+    warn(std::to_string(model.animations.size()) + " animation(s) dropped: the output is static");
   if (!model.skins.empty()) warn(std::to_string(model.skins.size()) + " skin(s) dropped: the output is not skinned");
   if (!model.cameras.empty()) warn(std::to_string(model.cameras.size()) + " camera(s) dropped");
 
@@ -294,11 +344,16 @@ inline Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadRepor
     return error(StatusCode::invalid_mesh, "the file has no scene, so nothing to resize");
   }
   int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
-  if (scene >= int(model.scenes.size())) return error(StatusCode::parse_error, "the default scene index is out of range");
+  if (scene >= int(model.scenes.size()))
+    return error(StatusCode::parse_error, "the default scene index is out of range");
   roots = model.scenes[scene].nodes;
 
   // Depth-first traversal with world matrices; a cycle or a bad index is an error.
-  struct Item { int node; Eigen::Matrix4d world; int depth; };
+  struct Item {
+    int node;
+    Eigen::Matrix4d world;
+    int depth;
+  };
   std::vector<Item> stack;
   for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, Eigen::Matrix4d::Identity(), 0});
   std::vector<int> visits(model.nodes.size(), 0);
@@ -312,16 +367,20 @@ inline Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadRepor
     Item item = stack.back();
     stack.pop_back();
     if (item.node < 0 || item.node >= int(model.nodes.size()))
-      return error(StatusCode::parse_error, "the scene refers to node " + std::to_string(item.node) + ", which does not exist");
+      return error(StatusCode::parse_error,
+                   "the scene refers to node " + std::to_string(item.node) + ", which does not exist");
     if (++visits[item.node] > 1 || item.depth > 1024)
-      return error(StatusCode::parse_error, "node " + std::to_string(item.node) + " is reached twice: the node hierarchy is not a tree");
+      return error(StatusCode::parse_error,
+                   "node " + std::to_string(item.node) + " is reached twice: the node hierarchy is not a tree");
     const tinygltf::Node& node = model.nodes[item.node];
     const Eigen::Matrix4d world = item.world * node_local_matrix(node);
     for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.push_back({*c, world, item.depth + 1});
     if (node.mesh < 0) continue;
     if (node.mesh >= int(model.meshes.size()))
-      return error(StatusCode::parse_error, "node " + std::to_string(item.node) + " refers to mesh " + std::to_string(node.mesh) + ", which does not exist");
-    if (!world.allFinite()) return error(StatusCode::invalid_mesh, "node " + std::to_string(item.node) + " has a non-finite transform");
+      return error(StatusCode::parse_error, "node " + std::to_string(item.node) + " refers to mesh " +
+                                                std::to_string(node.mesh) + ", which does not exist");
+    if (!world.allFinite())
+      return error(StatusCode::invalid_mesh, "node " + std::to_string(item.node) + " has a non-finite transform");
     const tinygltf::Mesh& gm = model.meshes[node.mesh];
     const Eigen::Matrix3d L = world.block<3, 3>(0, 0);
     const double det = L.determinant();
@@ -337,7 +396,8 @@ inline Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadRepor
       const std::string where = "mesh " + std::to_string(node.mesh) + (gm.name.empty() ? "" : " '" + gm.name + "'") +
                                 " primitive " + std::to_string(pi);
       const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-      if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+          mode != TINYGLTF_MODE_TRIANGLE_FAN) {
         warn(where + " is " + mode_name(mode) + ", not triangles: dropped");
         continue;
       }
@@ -356,7 +416,8 @@ inline Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadRepor
       const std::size_t nv = d.pos.size() / 3;
       for (std::size_t i = 0; i < d.pos.size(); ++i)
         if (!std::isfinite(d.pos[i]))
-          return gltf_error(StatusCode::invalid_mesh, where, "POSITION has a NaN or infinite coordinate at vertex " + std::to_string(i / 3));
+          return gltf_error(StatusCode::invalid_mesh, where,
+                            "POSITION has a NaN or infinite coordinate at vertex " + std::to_string(i / 3));
       AttributeSet attrs;
       for (const auto& kv : prim.attributes) {
         const std::string& name = kv.first;
@@ -371,7 +432,8 @@ inline Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadRepor
           if (values.size() / std::max(comps, 1) != nv)
             return gltf_error(StatusCode::parse_error, where, name + " has a different count from POSITION");
           for (double v : values)
-            if (!std::isfinite(v)) return gltf_error(StatusCode::invalid_mesh, where, name + " has a NaN or infinite value");
+            if (!std::isfinite(v))
+              return gltf_error(StatusCode::invalid_mesh, where, name + " has a NaN or infinite value");
         }
         if (name == "NORMAL") {
           if (comps != 3) return gltf_error(StatusCode::parse_error, where, "NORMAL is not VEC3");
@@ -382,11 +444,13 @@ inline Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadRepor
         } else if (name.rfind("TEXCOORD_", 0) == 0) {
           if (comps != 2) return gltf_error(StatusCode::parse_error, where, name + " is not VEC2");
           const int set = std::atoi(name.c_str() + 9);
-          if (set < 0 || set > 7) return gltf_error(StatusCode::unsupported, where, name + " is past the 8 UV sets restitch carries");
+          if (set < 0 || set > 7)
+            return gltf_error(StatusCode::unsupported, where, name + " is past the 8 UV sets restitch carries");
           if (int(d.uv.size()) <= set) d.uv.resize(set + 1);
           d.uv[set] = std::move(values);
         } else if (name == "COLOR_0") {
-          if (comps != 3 && comps != 4) return gltf_error(StatusCode::parse_error, where, "COLOR_0 is neither VEC3 nor VEC4");
+          if (comps != 3 && comps != 4)
+            return gltf_error(StatusCode::parse_error, where, "COLOR_0 is neither VEC3 nor VEC4");
           d.col = std::move(values), d.col_components = comps, attrs.color_components = comps;
         } else if (name.rfind("JOINTS_", 0) == 0 || name.rfind("WEIGHTS_", 0) == 0) {
           warn(where + ": skinning attribute " + name + " dropped");
@@ -409,14 +473,16 @@ inline Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadRepor
         RESTITCH_TRY(read_accessor(model, prim.indices, iv, comps, where + " indices"));
         if (comps != 1) return gltf_error(StatusCode::parse_error, where, "indices are not SCALAR");
         const tinygltf::Accessor& ia = model.accessors[prim.indices];
-        if (ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        if (ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+            ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
             ia.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
           return gltf_error(StatusCode::parse_error, where, "indices are not unsigned integers");
         idx.reserve(iv.size());
         for (std::size_t i = 0; i < iv.size(); ++i) {
           if (iv[i] >= double(nv))
-            return gltf_error(StatusCode::parse_error, where, "index " + std::to_string(std::uint64_t(iv[i])) + " at position " +
-                                                                 std::to_string(i) + " is out of range (" + std::to_string(nv) + " vertices)");
+            return gltf_error(StatusCode::parse_error, where,
+                              "index " + std::to_string(std::uint64_t(iv[i])) + " at position " + std::to_string(i) +
+                                  " is out of range (" + std::to_string(nv) + " vertices)");
           idx.push_back(std::uint32_t(iv[i]));
         }
       } else {
@@ -445,7 +511,8 @@ inline Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadRepor
         }
       }
       if (prim.material >= int(model.materials.size()))
-        return gltf_error(StatusCode::parse_error, where, "refers to material " + std::to_string(prim.material) + ", which does not exist");
+        return gltf_error(StatusCode::parse_error, where,
+                          "refers to material " + std::to_string(prim.material) + ", which does not exist");
 
       ++report.primitives;
       const std::pair<int, AttributeSet> key{prim.material, attrs};
@@ -565,22 +632,27 @@ inline Status parse_model(const std::uint8_t* data, std::size_t size, const std:
   std::string err, warn;
   bool ok;
   if (binary) {
-    if (size < 20) return error(StatusCode::parse_error, "the binary glTF is truncated (shorter than its 20-byte header)");
+    if (size < 20)
+      return error(StatusCode::parse_error, "the binary glTF is truncated (shorter than its 20-byte header)");
     std::uint32_t declared = 0;
     std::memcpy(&declared, data + 8, 4);
     if (declared > size)
-      return error(StatusCode::parse_error, "the binary glTF is truncated: its header declares " + std::to_string(declared) +
-                                                " bytes but the file has " + std::to_string(size));
+      return error(StatusCode::parse_error, "the binary glTF is truncated: its header declares " +
+                                                std::to_string(declared) + " bytes but the file has " +
+                                                std::to_string(size));
     ok = loader.LoadBinaryFromMemory(&model, &err, &warn, data, unsigned(size), base_dir);
   } else {
     if (data[0] != '{' && !std::isspace(data[0]))
-      return error(StatusCode::parse_error, "not a glTF file: it neither starts with the binary magic 'glTF' nor is JSON");
+      return error(StatusCode::parse_error,
+                   "not a glTF file: it neither starts with the binary magic 'glTF' nor is JSON");
     ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(data), unsigned(size), base_dir);
   }
   if (!ok) {
     while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
-    for (auto& ch : err) if (ch == '\n') ch = ';';
-    return error(StatusCode::parse_error, "not a valid glTF file: " + (err.empty() ? std::string("unknown reason") : err));
+    for (auto& ch : err)
+      if (ch == '\n') ch = ';';
+    return error(StatusCode::parse_error,
+                 "not a valid glTF file: " + (err.empty() ? std::string("unknown reason") : err));
   }
   if (!warn.empty()) {
     std::istringstream ws(warn);
@@ -709,8 +781,9 @@ inline Status build_model(const Mesh& mesh, tinygltf::Model& m) {
         out.uri.clear();
         if (out.mimeType.empty()) out.mimeType = sniff_mime(im.image);
         if (out.mimeType.empty())
-          return error(StatusCode::unsupported, "image " + std::to_string(&im - a.images.data()) +
-                                                    " is in a format restitch cannot name (not PNG, JPEG, WebP or KTX2)");
+          return error(StatusCode::unsupported,
+                       "image " + std::to_string(&im - a.images.data()) +
+                           " is in a format restitch cannot name (not PNG, JPEG, WebP or KTX2)");
       }
       m.images.push_back(out);
     }
@@ -718,7 +791,8 @@ inline Status build_model(const Mesh& mesh, tinygltf::Model& m) {
     for (const Material& mat : mesh.materials) {
       tinygltf::Material gm;
       gm.name = mat.name;
-      gm.pbrMetallicRoughness.baseColorFactor = {mat.base_color[0], mat.base_color[1], mat.base_color[2], mat.base_color[3]};
+      gm.pbrMetallicRoughness.baseColorFactor = {mat.base_color[0], mat.base_color[1], mat.base_color[2],
+                                                 mat.base_color[3]};
       gm.pbrMetallicRoughness.metallicFactor = mat.metallic;
       gm.pbrMetallicRoughness.roughnessFactor = mat.roughness;
       gm.doubleSided = mat.double_sided;
@@ -753,21 +827,21 @@ inline Status build_model(const Mesh& mesh, tinygltf::Model& m) {
     tinygltf::Primitive prim;
     prim.mode = TINYGLTF_MODE_TRIANGLES;
     prim.material = mesh.groups[g].material;
-    prim.attributes["POSITION"] =
-        add_float_accessor(m, gather([&](std::uint32_t v, int c) { return mesh.V(v, c); }, 3), 3, TINYGLTF_TYPE_VEC3, true);
+    prim.attributes["POSITION"] = add_float_accessor(m, gather([&](std::uint32_t v, int c) { return mesh.V(v, c); }, 3),
+                                                     3, TINYGLTF_TYPE_VEC3, true);
     if (a.normals)
-      prim.attributes["NORMAL"] =
-          add_float_accessor(m, gather([&](std::uint32_t v, int c) { return mesh.N(v, c); }, 3), 3, TINYGLTF_TYPE_VEC3, false);
+      prim.attributes["NORMAL"] = add_float_accessor(m, gather([&](std::uint32_t v, int c) { return mesh.N(v, c); }, 3),
+                                                     3, TINYGLTF_TYPE_VEC3, false);
     if (a.tangents)
-      prim.attributes["TANGENT"] =
-          add_float_accessor(m, gather([&](std::uint32_t v, int c) { return mesh.T(v, c); }, 4), 4, TINYGLTF_TYPE_VEC4, false);
+      prim.attributes["TANGENT"] = add_float_accessor(
+          m, gather([&](std::uint32_t v, int c) { return mesh.T(v, c); }, 4), 4, TINYGLTF_TYPE_VEC4, false);
     for (int s = 0; s < a.uv_sets; ++s)
       prim.attributes["TEXCOORD_" + std::to_string(s)] = add_float_accessor(
           m, gather([&](std::uint32_t v, int c) { return mesh.UV[s](v, c); }, 2), 2, TINYGLTF_TYPE_VEC2, false);
     if (a.color_components)
-      prim.attributes["COLOR_0"] =
-          add_float_accessor(m, gather([&](std::uint32_t v, int c) { return mesh.C(v, c); }, a.color_components),
-                             a.color_components, a.color_components == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4, false);
+      prim.attributes["COLOR_0"] = add_float_accessor(
+          m, gather([&](std::uint32_t v, int c) { return mesh.C(v, c); }, a.color_components), a.color_components,
+          a.color_components == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4, false);
     prim.indices = add_index_accessor(m, idx, used.size());
     gm.primitives.push_back(prim);
   }

@@ -52,7 +52,8 @@ struct LatticeLabels {
     for (int a = 0; a < 3; ++a)
       if (grid.dummy[a] && steps[a] != 0)
         return error(StatusCode::invalid_argument,
-                     "axis " + std::to_string(a + 1) + " is a dummy direction (no repeat was found along it): its steps must be 0");
+                     "axis " + std::to_string(a + 1) +
+                         " is a dummy direction (no repeat was found along it): its steps must be 0");
     out = steps;
     return {};
   }
@@ -76,14 +77,16 @@ struct RegularLabels {
     }
     return {};
   }
-  Status grid_steps(const Analysis& analysis, const Lattice& grid, const Eigen::Array3i& steps, Eigen::Array3i& out) const {
+  Status grid_steps(const Analysis& analysis, const Lattice& grid, const Eigen::Array3i& steps,
+                    Eigen::Array3i& out) const {
     // The requested translation of the far end, in model units, snapped to the grid.
     Eigen::Vector3d shift = Eigen::Vector3d::Zero();
     for (int a = 0; a < 3; ++a) {
       if (steps[a] == 0) continue;
       if (analysis.lattice.dummy[a])
         return error(StatusCode::invalid_argument,
-                     "axis " + std::to_string(a + 1) + " is a dummy direction (no repeat was found along it): its steps must be 0");
+                     "axis " + std::to_string(a + 1) +
+                         " is a dummy direction (no repeat was found along it): its steps must be 0");
       shift += analysis.lattice.A.col(a) * steps[a];
     }
     for (int i = 0; i < 3; ++i) out[i] = int(std::lround(shift[i] / grid.A(i, i)));

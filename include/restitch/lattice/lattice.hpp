@@ -18,7 +18,7 @@
 namespace restitch {
 
 struct Lattice {
-  Eigen::Matrix3d A = Eigen::Matrix3d::Identity();  ///< columns: v1, v2, v3 (model units)
+  Eigen::Matrix3d A = Eigen::Matrix3d::Identity();   ///< columns: v1, v2, v3 (model units)
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< model-space point of canonical (0,0,0)
   Eigen::Array3i cells = Eigen::Array3i::Ones();     ///< input cells U_in, V_in, W_in
   std::array<bool, 3> dummy{{false, false, false}};  ///< column a is a dummy direction (never resized)
