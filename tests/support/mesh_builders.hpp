@@ -6,7 +6,7 @@
 namespace restitch::test {
 
 // Adds an axis-aligned box [lo, hi] (12 triangles, outward normals) to a mesh.
-void add_box(Mesh& m, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+inline void add_box(Mesh& m, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   const Eigen::Index base = m.V.rows();
   m.V.conservativeResize(base + 8, 3);
   for (int c = 0; c < 8; ++c)
