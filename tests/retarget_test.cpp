@@ -35,6 +35,15 @@ int axis_of(const Lattice& L, const Eigen::Vector3d& g) {
   return -1;
 }
 
+// Steps of `k` along sample generator `g` (the lattice axis parallel to it).
+Eigen::Array3i steps_along(const Prepared& p, std::size_t g, int k) {
+  const int axis = axis_of(p.analysis.lattice, p.sample.generators[g]);
+  REQUIRE(axis >= 0);
+  Eigen::Array3i steps = Eigen::Array3i::Zero();
+  steps[axis] = k;
+  return steps;
+}
+
 }  // namespace
 
 TEST_CASE("retarget: each sample family resized by k steps equals the family generated with k more repeats",
@@ -44,14 +53,10 @@ TEST_CASE("retarget: each sample family resized by k steps equals the family gen
     Retargeter<> r(p.sample.mesh, p.analysis);
     REQUIRE(r.status().ok());
     for (std::size_t g = 0; g < p.sample.generators.size(); ++g) {
-      const int axis = axis_of(p.analysis.lattice, p.sample.generators[g]);
       INFO(info.name << " generator " << g);
-      REQUIRE(axis >= 0);
       for (const int k : {2, -1}) {
         INFO("steps " << k);
-        Eigen::Array3i steps = Eigen::Array3i::Zero();
-        steps[axis] = k;
-        auto out = r.retarget(steps);
+        auto out = r.retarget(steps_along(p, g, k));
         REQUIRE(out.ok());
         auto truth = samples::generate(info.name, {{p.sample.count_parameters[g], p.sample.counts[g] + k}});
         REQUIRE(truth.ok());
@@ -72,10 +77,7 @@ TEST_CASE("retarget: each sample family resized by k steps equals the family gen
 TEST_CASE("retarget: the bookshelf keeps both side panels; the sheared facade stays sheared", "[retarget][samples]") {
   {
     const Prepared& p = prepared("bookshelf");
-    const int axis = axis_of(p.analysis.lattice, p.sample.generators[0]);
-    REQUIRE(axis >= 0);
-    Eigen::Array3i steps = Eigen::Array3i::Zero();
-    steps[axis] = 3;
+    Eigen::Array3i steps = steps_along(p, 0, 3);
     auto out = retarget(p.sample.mesh, p.analysis, steps);
     REQUIRE(out.ok());
     // The outer faces of both side panels (area lying in the planes x = min and
@@ -120,10 +122,7 @@ TEST_CASE("retarget: the bookshelf keeps both side panels; the sheared facade st
 
 TEST_CASE("retarget: materials, groups and attribute values survive a resize", "[retarget][samples]") {
   const Prepared& p = prepared("bookshelf");
-  const int axis = axis_of(p.analysis.lattice, p.sample.generators[0]);
-  REQUIRE(axis >= 0);
-  Eigen::Array3i steps = Eigen::Array3i::Zero();
-  steps[axis] = 2;
+  Eigen::Array3i steps = steps_along(p, 0, 2);
   RetargetOptions options;
   options.face_labels = true;
   auto out = retarget(p.sample.mesh, p.analysis, steps, options);
@@ -200,15 +199,12 @@ TEST_CASE("retarget: refused requests say why", "[retarget]") {
 
 TEST_CASE("retarget: repeated requests on one Retargeter are deterministic and reuse the cache", "[retarget]") {
   const Prepared& p = prepared("fence");
-  const int axis = axis_of(p.analysis.lattice, p.sample.generators[0]);
-  REQUIRE(axis >= 0);
   Retargeter<> r(p.sample.mesh, p.analysis);
-  Eigen::Array3i steps = Eigen::Array3i::Zero();
-  steps[axis] = 3;
+  Eigen::Array3i steps = steps_along(p, 0, 3);
   auto a = r.retarget(steps);
-  steps[axis] = -2;
+  steps = steps_along(p, 0, -2);
   auto b = r.retarget(steps);
-  steps[axis] = 3;
+  steps = steps_along(p, 0, 3);
   auto c = r.retarget(steps);
   REQUIRE(a.ok());
   REQUIRE(b.ok());
@@ -240,10 +236,7 @@ TEST_CASE("retarget: steps_for_size picks the nearest achievable size", "[retarg
 
 TEST_CASE("retarget: the regular-grid baseline needs more labels for the same request", "[retarget]") {
   const Prepared& p = prepared("pin_header");
-  const int axis = axis_of(p.analysis.lattice, p.sample.generators[0]);
-  REQUIRE(axis >= 0);
-  Eigen::Array3i steps = Eigen::Array3i::Zero();
-  steps[axis] = 1;
+  Eigen::Array3i steps = steps_along(p, 0, 1);
   Retargeter<LatticeLabels> lattice(p.sample.mesh, p.analysis);
   Retargeter<RegularLabels> regular(p.sample.mesh, p.analysis);
   auto a = lattice.retarget(steps);
