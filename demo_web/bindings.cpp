@@ -27,7 +27,7 @@
 // name and the number of histogram peaks. Policies are chosen by name
 // through restitch/runtime.hpp; the retarget steps s1..s3 are steps along the
 // principal offsets v1..v3 in the order of `analysis.principal_offsets`
-// (restitch::principal_steps), zeros for the ones a model does not have.
+// (restitch::lattice_steps_from_principal), zeros for the ones a model does not have.
 //
 // Contract. Typed arrays handed out are copies (JS owns them; they survive
 // memory growth). `mesh()` orders faces by group and gives one draw range per
@@ -165,7 +165,7 @@ class Session {
     if (std::max({std::abs(s1), std::abs(s2), std::abs(s3)}) > max_steps)
       return status_object(
           error(StatusCode::too_large, "the demo allows at most " + std::to_string(max_steps) + " steps per axis"));
-    Result<Eigen::Array3i> steps = principal_steps(*analysis_, {s1, s2, s3});
+    Result<Eigen::Array3i> steps = lattice_steps_from_principal(*analysis_, {s1, s2, s3});
     if (!steps) return status_object(steps.status());
     if (!retargeter_ || label_space != retargeter_space_) {
       // Build the new one aside: an unknown name or a grid too large keeps the current one usable.
@@ -256,7 +256,7 @@ class Session {
   // The report as `restitch resize --json` prints it, the label grid and labels, and per face its label.
   static val retarget_answer(const RetargetResult& r, const Analysis& a, const std::string& label_space) {
     nlohmann::json j = retarget_json(r.report);
-    j["steps_principal"] = steps_along_principal(a, r.report.steps);
+    j["steps_principal"] = principal_steps_from_lattice(a, r.report.steps);
     j["label_space"] = label_space;
     val out = val::object();
     out.set("ok", true);

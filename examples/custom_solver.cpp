@@ -28,7 +28,7 @@ struct IcmSolver {
   template <class Problem>
   restitch::Status solve(const Problem& problem, std::vector<int>& labels, restitch::SolveReport& report,
                          const restitch::Progress& progress) const {
-    static_assert(restitch::is_labeling_problem_v<Problem>, "IcmSolver: not a labelling problem");
+    static_assert(restitch::is_labelling_problem_v<Problem>, "IcmSolver: not a labelling problem");
     const int n = problem.node_count(), m = problem.label_count();
     if (labels.empty()) labels.assign(static_cast<std::size_t>(n), 0);
     if (static_cast<int>(labels.size()) != n)

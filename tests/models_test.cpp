@@ -61,7 +61,7 @@ TEST_CASE("models: the listed repeats longer than tau are found, and resizing al
     Retargeter<> r(*mesh, *a);
     const double length = bounding_box(*mesh).size().dot(a->principal_model_units()[0].normalized().cwiseAbs());
     for (const int k : {2, -1}) {
-      auto steps = principal_steps(*a, {k});
+      auto steps = lattice_steps_from_principal(*a, {k});
       REQUIRE(steps.ok());
       auto out = r.retarget(*steps);
       REQUIRE(out.ok());

@@ -67,7 +67,7 @@ TEST_CASE("retarget: each sample family resized by k steps equals the family gen
         const double d = restitch::test::symmetric_surface_distance(out->mesh, truth->mesh, 0.004 * size);
         CHECK(d < 1e-4 * size);
         CHECK(out->report.labels == std::abs(k) + 1);
-        CHECK(out->report.nodes == out->report.out_cells.prod());
+        CHECK(out->report.nodes == out->report.cells_out.prod());
         CHECK(validate(out->mesh).ok());
       }
     }

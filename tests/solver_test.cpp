@@ -177,8 +177,8 @@ TEST_CASE("solver: contracts are detected", "[solver]") {
   STATIC_REQUIRE(restitch::is_max_flow_v<BkMaxFlow<std::int64_t>>);
   STATIC_REQUIRE_FALSE(restitch::is_max_flow_v<int>);
   STATIC_REQUIRE_FALSE(restitch::is_max_flow_v<TableMrf>);
-  STATIC_REQUIRE(restitch::is_labeling_problem_v<TableMrf>);
-  STATIC_REQUIRE_FALSE(restitch::is_labeling_problem_v<BkMaxFlow<double>>);
+  STATIC_REQUIRE(restitch::is_labelling_problem_v<TableMrf>);
+  STATIC_REQUIRE_FALSE(restitch::is_labelling_problem_v<BkMaxFlow<double>>);
   STATIC_REQUIRE(restitch::is_graph_solver_v<AlphaExpansion<>>);
   STATIC_REQUIRE_FALSE(restitch::is_graph_solver_v<TableMrf>);
 }

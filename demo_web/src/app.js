@@ -663,7 +663,7 @@ function buildSliders() {
   settings.steps.v1 = settings.steps.v2 = settings.steps.v3 = 0;
   const a = state.analysis;
   state.model.extent = a.principal_offsets.map((v) => extentAlong(new THREE.Vector3(...v).normalize()));
-  // Slider i moves along principal offset v_i, the i-th lattice axis that is not a dummy (restitch::principal_steps).
+  // Slider i moves along principal offset v_i, the i-th lattice axis that is not a dummy (restitch::lattice_steps_from_principal).
   const real = [0, 1, 2].filter((c) => !a.dummy_directions.some((d) => d.every((x, k) => x === a.lattice_axes[c][k])));
   a.principal_offsets.forEach((v, i) => {
     const cells = a.lattice_cells[real[i]];

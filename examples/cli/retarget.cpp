@@ -74,7 +74,7 @@ void register_retarget_commands(CLI::App& app, int* exit_code) {
       }
       Eigen::Array3i steps;
       if (!args->steps.empty()) {
-        Result<Eigen::Array3i> s = principal_steps(*a, args->steps);
+        Result<Eigen::Array3i> s = lattice_steps_from_principal(*a, args->steps);
         if (!s) {
           *exit_code = fail(s.status());
           return;
@@ -89,10 +89,10 @@ void register_retarget_commands(CLI::App& app, int* exit_code) {
         steps = *s;
         if (!quiet)
           std::printf("size %g x %g x %g: nearest achievable with steps %s\n", args->size[0], args->size[1],
-                      args->size[2], join(steps_along_principal(*a, steps)).c_str());
+                      args->size[2], join(principal_steps_from_lattice(*a, steps)).c_str());
       }
       if (!args->dump_mrf.empty()) {
-        Result<SeamMrf> problem = r.labeling_problem(steps);
+        Result<SeamMrf> problem = r.labelling_problem(steps);
         if (!problem) {
           *exit_code = fail(problem.status());
           return;
@@ -113,7 +113,7 @@ void register_retarget_commands(CLI::App& app, int* exit_code) {
       }
       const RetargetReport& rep = out->report;
       nlohmann::json j = retarget_json(rep);
-      j["steps_principal"] = steps_along_principal(*a, steps);
+      j["steps_principal"] = principal_steps_from_lattice(*a, steps);
       j["label_space"] = args->labels;
       j["file"] = args->output;
       if (!quiet) {
@@ -121,8 +121,8 @@ void register_retarget_commands(CLI::App& app, int* exit_code) {
         std::printf("%s: %zu principal offset(s)", args->input.c_str(), principal.size());
         for (const auto& v : principal) std::printf("  (%.4g, %.4g, %.4g)", v.x(), v.y(), v.z());
         std::printf("\n  steps %s: %d x %d x %d cells -> %d x %d x %d\n",
-                    join(steps_along_principal(*a, steps)).c_str(), rep.in_cells[0], rep.in_cells[1], rep.in_cells[2],
-                    rep.out_cells[0], rep.out_cells[1], rep.out_cells[2]);
+                    join(principal_steps_from_lattice(*a, steps)).c_str(), rep.cells_in[0], rep.cells_in[1], rep.cells_in[2],
+                    rep.cells_out[0], rep.cells_out[1], rep.cells_out[2]);
         std::printf("  graph cut (%s labels): %d nodes, %d labels, %d cycles, energy %.6g, solve %.1f ms\n",
                     args->labels.c_str(), rep.nodes, rep.labels, rep.cycles, rep.energy,
                     rep.timings_ms.count("solve") ? rep.timings_ms.at("solve") : 0.0);
@@ -166,7 +166,7 @@ void register_retarget_commands(CLI::App& app, int* exit_code) {
                           {"labels", rep.labels},   {"edges", rep.edges},
                           {"energy", rep.energy},   {"initial_energy", rep.initial_energy},
                           {"cycles", rep.cycles},   {"non_metric", rep.non_metric_detected},
-                          {"ms", rep.ms},           {"labeling", labels}};
+                          {"ms", rep.ms},           {"labelling", labels}};
       if (args->json != "-")
         std::printf("%s: %d nodes, %d labels, %d edges; %s: energy %.10g after %d cycles in %.2f ms%s\n",
                     args->input.c_str(), rep.nodes, rep.labels, rep.edges, args->solver.c_str(), rep.energy, rep.cycles,

@@ -55,9 +55,9 @@ struct RetargetOptions {
 };
 
 struct RetargetReport {
-  Eigen::Array3i steps = Eigen::Array3i::Zero();       ///< as requested, along the principal offsets
+  Eigen::Array3i steps = Eigen::Array3i::Zero();       ///< as requested, per lattice axis (dummies included; see lattice_steps_from_principal)
   Eigen::Array3i grid_steps = Eigen::Array3i::Zero();  ///< cells added per axis of the label grid
-  Eigen::Array3i in_cells = Eigen::Array3i::Ones(), out_cells = Eigen::Array3i::Ones();
+  Eigen::Array3i cells_in = Eigen::Array3i::Ones(), cells_out = Eigen::Array3i::Ones();
   int nodes = 0, labels = 0, edges = 0, cycles = 0;
   double energy = 0;
   bool non_metric = false;
@@ -124,7 +124,7 @@ class Retargeter {
     RESTITCH_TRY(plan(steps, rep));
     out.grid = grid_;
     const Eigen::Array3i k = rep.grid_steps;
-    const double nodes = double(rep.out_cells.prod());
+    const double nodes = double(rep.cells_out.prod());
 
     if ((k == 0).all()) {  // nothing to do: the input, unchanged
       out.mesh = *mesh_;
@@ -148,33 +148,33 @@ class Retargeter {
     rep.edges = problem.edge_count();
 
     t = clock::now();
-    std::vector<int> labeling = problem.initial_labels();
+    std::vector<int> labelling = problem.initial_labels();
     SolveReport solve;
-    RESTITCH_TRY(solver_.solve(problem, labeling, solve, progress));
+    RESTITCH_TRY(solver_.solve(problem, labelling, solve, progress));
     rep.timings_ms["solve"] = ms_since(t);
     rep.cycles = solve.cycles;
     rep.energy = solve.energy;
     rep.non_metric = solve.non_metric_detected;
 
     out.labels = problem.labels();
-    out.cell_labels = labeling;
-    std::vector<Eigen::Array3i> shift(labeling.size());
-    for (std::size_t x = 0; x < labeling.size(); ++x) shift[x] = out.labels[std::size_t(labeling[x])];
+    out.cell_labels = labelling;
+    std::vector<Eigen::Array3i> shift(labelling.size());
+    for (std::size_t x = 0; x < labelling.size(); ++x) shift[x] = out.labels[std::size_t(labelling[x])];
 
     if (!progress.report("stitching", 0.0)) return error(StatusCode::cancelled, "cancelled");
     t = clock::now();
     StitchReport st;
     if constexpr (has_prepared_stitch_v<Stitcher>) {
-      RESTITCH_TRY(stitcher_.stitch(cache_, rep.out_cells, shift, out.mesh, st));
+      RESTITCH_TRY(stitcher_.stitch(cache_, rep.cells_out, shift, out.mesh, st));
     } else {
-      RESTITCH_TRY(stitcher_.stitch(*mesh_, grid_, rep.out_cells, shift, out.mesh, st));
+      RESTITCH_TRY(stitcher_.stitch(*mesh_, grid_, rep.cells_out, shift, out.mesh, st));
     }
     rep.timings_ms["stitch"] = ms_since(t);
     rep.regions = st.regions;
     rep.triangles_out = out.mesh.triangle_count();
     rep.vertices_out = out.mesh.vertex_count();
     rep.size_out = out.mesh.empty() ? Eigen::Vector3d::Zero() : bounding_box(out.mesh).size();
-    if (options_.face_labels) out.face_labels = face_labels(out.mesh, rep.out_cells, labeling);
+    if (options_.face_labels) out.face_labels = face_labels(out.mesh, rep.cells_out, labelling);
     rep.timings_ms["total"] = ms_since(t0);
     progress.report("stitching", 1.0);
     if (out.mesh.empty())
@@ -183,7 +183,7 @@ class Retargeter {
   }
 
   /// The labelling problem a request solves (for --dump-mrf and benchmarks).
-  Result<SeamMrf> labeling_problem(const Eigen::Array3i& steps) {
+  Result<SeamMrf> labelling_problem(const Eigen::Array3i& steps) {
     RESTITCH_TRY(status_);
     RetargetReport rep;
     RESTITCH_TRY(plan(steps, rep));
@@ -221,7 +221,7 @@ class Retargeter {
   // Checks a request and fills the size-independent part of the report.
   Status plan(const Eigen::Array3i& steps, RetargetReport& rep) const {
     rep.steps = steps;
-    rep.in_cells = grid_.cells;
+    rep.cells_in = grid_.cells;
     rep.triangles_in = mesh_->triangle_count();
     rep.size_in = size_in_;
     if ((steps != 0).any() && analysis_->principal.empty())
@@ -235,8 +235,8 @@ class Retargeter {
                                                        std::to_string(-steps[a]) + " steps: the model has " +
                                                        std::to_string(grid_.cells[a]) + " cells along it (at most " +
                                                        std::to_string(grid_.cells[a] - 1) + " steps can be removed)");
-    rep.out_cells = grid_.cells + k;
-    const double nodes = double(rep.out_cells.prod());
+    rep.cells_out = grid_.cells + k;
+    const double nodes = double(rep.cells_out.prod());
     const double labels = double((k.abs() + 1).prod());
     if (nodes * labels > double(options_.max_problem_size))
       return error(StatusCode::too_large,
@@ -248,7 +248,7 @@ class Retargeter {
     return {};
   }
 
-  std::vector<int> face_labels(const Mesh& m, const Eigen::Array3i& out_cells, const std::vector<int>& labeling) const {
+  std::vector<int> face_labels(const Mesh& m, const Eigen::Array3i& out_cells, const std::vector<int>& labelling) const {
     std::vector<int> fl(m.triangle_count(), 0);
     const Eigen::Matrix3d Ainv = grid_.A.inverse();
     for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
@@ -258,7 +258,7 @@ class Retargeter {
       const Eigen::Vector3d q = Ainv * (c - grid_.origin);
       Eigen::Array3i cell;
       for (int a = 0; a < 3; ++a) cell[a] = std::clamp(int(std::floor(q[a])), 0, out_cells[a] - 1);
-      fl[std::size_t(f)] = labeling[std::size_t(SeamMrf::linear(cell, out_cells))];
+      fl[std::size_t(f)] = labelling[std::size_t(SeamMrf::linear(cell, out_cells))];
     }
     return fl;
   }
@@ -280,7 +280,7 @@ class Retargeter {
 /// value goes to the i-th non-dummy lattice axis), as a user states them.
 /// More non-zero values than principal offsets is an error saying how many
 /// the model has.
-inline Result<Eigen::Array3i> principal_steps(const Analysis& analysis, const std::vector<int>& steps) {
+inline Result<Eigen::Array3i> lattice_steps_from_principal(const Analysis& analysis, const std::vector<int>& steps) {
   Eigen::Array3i out = Eigen::Array3i::Zero();
   std::size_t next = 0;
   for (int a = 0; a < 3; ++a)
@@ -296,8 +296,8 @@ inline Result<Eigen::Array3i> principal_steps(const Analysis& analysis, const st
   return out;
 }
 
-/// The inverse of principal_steps: the steps along each principal offset.
-inline std::vector<int> steps_along_principal(const Analysis& analysis, const Eigen::Array3i& lattice_steps) {
+/// The inverse of lattice_steps_from_principal: the steps along each principal offset, in order.
+inline std::vector<int> principal_steps_from_lattice(const Analysis& analysis, const Eigen::Array3i& lattice_steps) {
   std::vector<int> out;
   for (int a = 0; a < 3; ++a)
     if (!analysis.lattice.dummy[a]) out.push_back(lattice_steps[a]);

@@ -98,14 +98,14 @@ class AnyRetargeter {
         },
         r_);
   }
-  Result<SeamMrf> labeling_problem(const Eigen::Array3i& steps) {
+  Result<SeamMrf> labelling_problem(const Eigen::Array3i& steps) {
     RESTITCH_TRY(status());
     return std::visit(
         [&](auto& r) -> Result<SeamMrf> {
           if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>)
             return error(StatusCode::internal, "no retargeter");
           else
-            return r.labeling_problem(steps);
+            return r.labelling_problem(steps);
         },
         r_);
   }

@@ -7,6 +7,8 @@
 // analysis_json: scale (normalized units per model unit), features,
 //   dominant_offsets [{offset [x,y,z], votes, overlap, significant}],
 //   principal_offsets [[x,y,z]...] in order, dummy_directions [[x,y,z]...],
+//   lattice_axes [[x,y,z] x3] (the principal offsets in order, then the dummy
+//   directions), resizable [bool x3] (per lattice axis: false for a dummy),
 //   lattice_cells [U,V,W], lattice_origin [x,y,z], sparsity {top7, top20, bins},
 //   descriptor, matcher, timings_ms {stage: ms}.
 // retarget_json: steps, grid_steps, nodes, labels, edges, cycles, energy,
@@ -43,6 +45,8 @@ inline nlohmann::json analysis_json(const Analysis& a) {
     if (a.lattice.dummy[c]) j["dummy_directions"].push_back(detail::vec3(a.lattice.A.col(c)));
   j["lattice_axes"] = nlohmann::json::array();
   for (int c = 0; c < 3; ++c) j["lattice_axes"].push_back(detail::vec3(a.lattice.A.col(c)));
+  j["resizable"] = nlohmann::json::array();
+  for (int c = 0; c < 3; ++c) j["resizable"].push_back(!a.lattice.dummy[c]);
   j["lattice_cells"] = detail::arr3(a.lattice.cells);
   j["lattice_origin"] = detail::vec3(a.lattice.origin);
   j["sparsity"] = {{"top7", a.sparsity.top7}, {"top20", a.sparsity.top20}, {"bins", a.sparsity.bins}};
@@ -62,8 +66,8 @@ inline nlohmann::json retarget_json(const RetargetReport& r) {
   j["cycles"] = r.cycles;
   j["energy"] = r.energy;
   j["non_metric"] = r.non_metric;
-  j["cells_in"] = detail::arr3(r.in_cells);
-  j["cells_out"] = detail::arr3(r.out_cells);
+  j["cells_in"] = detail::arr3(r.cells_in);
+  j["cells_out"] = detail::arr3(r.cells_out);
   j["size_in"] = detail::vec3(r.size_in);
   j["size_out"] = detail::vec3(r.size_out);
   j["timings_ms"] = r.timings_ms;

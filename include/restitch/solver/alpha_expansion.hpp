@@ -294,7 +294,7 @@ class AlphaExpansion {
   template <class Problem>
   Status solve(const Problem& problem, std::vector<int>& labels, SolveReport& report,
                const Progress& progress = Progress()) const {
-    static_assert(is_labeling_problem_v<Problem>,
+    static_assert(is_labelling_problem_v<Problem>,
                   "AlphaExpansion::solve: the problem type does not satisfy the labelling problem contract "
                   "(node_count, label_count, unary, edge_count, edge, pairwise; see restitch/solver/mrf.hpp)");
     const auto t0 = std::chrono::steady_clock::now();

@@ -23,7 +23,7 @@
 // (restitch uses 1e9), never an infinity or NaN. The solver calls unary() and
 // pairwise() many times (about 3 E + N per expansion move), so they should be
 // cheap (a table look-up or a short formula); a problem object is only read.
-// `is_labeling_problem_v<P>` checks the contract at compile time.
+// `is_labelling_problem_v<P>` checks the contract at compile time.
 //
 // A solver policy minimises that energy. restitch ships AlphaExpansion
 // (restitch/solver/alpha_expansion.hpp); examples/custom_solver.cpp plugs in
@@ -61,9 +61,9 @@ namespace restitch {
 
 namespace detail {
 template <class P, class = void>
-struct is_labeling_problem : std::false_type {};
+struct is_labelling_problem : std::false_type {};
 template <class P>
-struct is_labeling_problem<
+struct is_labelling_problem<
     P, std::void_t<decltype(std::declval<const P&>().node_count()), decltype(std::declval<const P&>().label_count()),
                    decltype(std::declval<const P&>().unary(0, 0)), decltype(std::declval<const P&>().edge_count()),
                    decltype(std::declval<const P&>().edge(0)), decltype(std::declval<const P&>().pairwise(0, 0, 0))>>
@@ -94,7 +94,7 @@ inline constexpr double expansion_slack = 1e-12;
 
 /// True when P satisfies the labelling problem contract above.
 template <class P>
-inline constexpr bool is_labeling_problem_v = detail::is_labeling_problem<P>::value;
+inline constexpr bool is_labelling_problem_v = detail::is_labelling_problem<P>::value;
 
 /// A labelling problem held in tables: unary as N x M values, and for every
 /// edge its two nodes and an M x M table (row = label of the first node).
@@ -173,7 +173,7 @@ class TableMrf {
 /// node order then edge order (deterministic). Cost O(N + E) term calls.
 template <class P>
 double energy(const P& problem, const std::vector<int>& labels) {
-  static_assert(is_labeling_problem_v<P>,
+  static_assert(is_labelling_problem_v<P>,
                 "restitch::energy: the problem type does not satisfy the labelling problem contract "
                 "(see restitch/solver/mrf.hpp)");
   const int n = problem.node_count();
@@ -215,7 +215,7 @@ struct MetricCheck {
 /// solve).
 template <class P>
 MetricCheck check_metric(const P& problem) {
-  static_assert(is_labeling_problem_v<P>,
+  static_assert(is_labelling_problem_v<P>,
                 "restitch::check_metric: the problem type does not satisfy the labelling problem contract "
                 "(see restitch/solver/mrf.hpp)");
   MetricCheck r;

@@ -144,7 +144,7 @@ inline Status read_row(MrfLines& lines, std::vector<std::string_view>& tokens, i
 /// cannot be written or renamed. Cost O(N M + E M^2).
 template <class P>
 Status write_mrf(const std::string& path, const P& problem) {
-  static_assert(is_labeling_problem_v<P>,
+  static_assert(is_labelling_problem_v<P>,
                 "restitch::write_mrf: the problem type does not satisfy the labelling problem contract "
                 "(see restitch/solver/mrf.hpp)");
   const int n = problem.node_count(), m = problem.label_count(), edges = problem.edge_count();

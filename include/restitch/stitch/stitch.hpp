@@ -87,7 +87,7 @@
 //   };
 //
 // Optionally (checked by has_prepared_stitch_v), a policy that can reuse work
-// across labelings (the web demo's live slider) offers
+// across labellings (the web demo's live slider) offers
 //
 //     restitch::Status prepare(const Mesh& in, const Lattice& lattice, StitchCache& cache) const;
 //     restitch::Status stitch(const StitchCache& cache, const Eigen::Array3i& out_cells,
