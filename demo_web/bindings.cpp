@@ -54,7 +54,7 @@
 #include <string_view>
 #include <vector>
 
-#include "restitch/analysis.hpp"
+#include "restitch/analyze.hpp"
 #include "restitch/io/gltf.hpp"
 #include "restitch/io/json_report.hpp"
 #include "restitch/mesh.hpp"

@@ -29,6 +29,7 @@ if [ -d "$models" ]; then for m in "$models"/*.glb; do ln -sf "$m" "$out/in/$(ba
 one() {
   local bin="$1" out="$2" in="$3"
   local name; name="$(basename "$in" .glb)"
+  cd "$out"  # outputs named relative to OUT_DIR, so reports name the same files whatever OUT_DIR is
   "$bin" analyze "$in" --json "$out/$name.analyze.json" >/dev/null 2>"$out/$name.analyze.err" || echo "exit $?" >>"$out/$name.analyze.err"
   strip_timings "$out/$name.analyze.json" 2>/dev/null || true
   local n; n=$(jq '.principal_offsets | length' "$out/$name.analyze.json" 2>/dev/null || echo 0)
@@ -37,13 +38,13 @@ one() {
     for step in 2 -1; do
       steps=(0 0 0); steps[$axis]=$step
       local tag="$name.v$((axis + 1))_$step"
-      "$bin" resize "$in" -o "$out/$tag.glb" --steps "$(IFS=,; echo "${steps[*]:0:$n}")" --json "$out/$tag.json" \
+      "$bin" resize "$in" -o "$tag.glb" --steps "$(IFS=,; echo "${steps[*]:0:$n}")" --json "$out/$tag.json" \
         >/dev/null 2>"$out/$tag.err" || echo "exit $?" >>"$out/$tag.err"
       strip_timings "$out/$tag.json" 2>/dev/null || true
     done
   done
   case "$name" in sample_bookshelf|sample_fence)
-    "$bin" resize "$in" -o "$out/$name.regular.glb" --steps 1 --labels regular --json "$out/$name.regular.json" \
+    "$bin" resize "$in" -o "$name.regular.glb" --steps 1 --labels regular --json "$out/$name.regular.json" \
       >/dev/null 2>"$out/$name.regular.err" || echo "exit $?" >>"$out/$name.regular.err"
     strip_timings "$out/$name.regular.json" 2>/dev/null || true ;;
   esac

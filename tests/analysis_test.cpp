@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "restitch/analysis.hpp"
+#include "restitch/analyze.hpp"
 #include "restitch/samples/samples.hpp"
 
 #include "support/mesh_builders.hpp"

@@ -10,7 +10,7 @@
 using restitch::ClipStitcher;
 using restitch::Lattice;
 using restitch::Mesh;
-using restitch::StitchCache;
+using restitch::ClipStitchCache;
 using restitch::StitchReport;
 
 namespace {
@@ -551,7 +551,7 @@ TEST_CASE("stitch: bad arguments return a status, never throw", "[stitch]") {
         restitch::StatusCode::invalid_argument);
   CHECK(st.stitch(Mesh(), lat, lat.cells, uniform_labels(lat.cells, {0, 0, 0}), out, rep).code() ==
         restitch::StatusCode::invalid_mesh);
-  StitchCache cache;
+  ClipStitchCache cache;
   CHECK(st.stitch(cache, lat.cells, uniform_labels(lat.cells, {0, 0, 0}), out, rep).code() ==
         restitch::StatusCode::invalid_argument);
   CHECK(st.stitch(in, lat, lat.cells, uniform_labels(lat.cells, {0, 0, 0}), const_cast<Mesh&>(in), rep).code() ==
@@ -571,7 +571,7 @@ TEST_CASE("stitch: deterministic, and a reused cache gives the same bits", "[sti
   Mesh a, c, d;
   StitchReport ra, rc, rd;
   REQUIRE(st.stitch(in, lat, out_cells, labels, a, ra));
-  StitchCache cache;
+  ClipStitchCache cache;
   REQUIRE(st.prepare(in, lat, cache));
   REQUIRE(st.stitch(cache, lat.cells, uniform_labels(lat.cells, {0, 0, 0}), d, rd));  // another labelling first
   REQUIRE(st.stitch(cache, out_cells, labels, c, rc));

@@ -54,6 +54,10 @@ struct Material {
 };
 
 /// Which optional per-vertex channels a group carries.
+/// The most texture-coordinate sets (TEXCOORD_n) a Mesh carries through restitch:
+/// the glTF reader keeps at most this many, the stitcher refuses more.
+inline constexpr std::size_t max_uv_sets = 8;
+
 struct AttributeSet {
   bool normals = false;
   bool tangents = false;

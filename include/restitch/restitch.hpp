@@ -25,7 +25,7 @@
 // a Result.
 #pragma once
 
-#include "restitch/analysis.hpp"
+#include "restitch/analyze.hpp"
 #include "restitch/descriptor/fpfh.hpp"
 #include "restitch/descriptor/shot.hpp"
 #include "restitch/descriptor/xyzn.hpp"

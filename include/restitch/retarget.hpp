@@ -76,6 +76,20 @@ struct RetargetResult {
   std::vector<int> face_labels;        ///< label index per output face (when requested)
 };
 
+namespace detail {
+/// The stitcher's `cache_type` when it offers the prepared stitch, else an empty placeholder.
+template <class S, bool = has_prepared_stitch_v<S>>
+struct stitch_cache {
+  struct type {};
+};
+template <class S>
+struct stitch_cache<S, true> {
+  using type = typename S::cache_type;
+};
+template <class S>
+using stitch_cache_t = typename stitch_cache<S>::type;
+}  // namespace detail
+
 template <class LabelSpace = LatticeLabels, class Solver = AlphaExpansion<>, class Stitcher = ClipStitcher>
 class Retargeter {
   static_assert(is_label_space_v<LabelSpace>,
@@ -174,7 +188,7 @@ class Retargeter {
     rep.triangles_out = out.mesh.triangle_count();
     rep.vertices_out = out.mesh.vertex_count();
     rep.size_out = out.mesh.empty() ? Eigen::Vector3d::Zero() : bounding_box(out.mesh).size();
-    if (options_.face_labels) out.face_labels = face_labels(out.mesh, rep.cells_out, labelling);
+    if (options_.face_labels) out.face_labels = face_labels(out.mesh, CellGrid(rep.cells_out), labelling);
     rep.timings_ms["total"] = ms_since(t0);
     progress.report("stitching", 1.0);
     if (out.mesh.empty())
@@ -248,17 +262,15 @@ class Retargeter {
     return {};
   }
 
-  std::vector<int> face_labels(const Mesh& m, const Eigen::Array3i& out_cells, const std::vector<int>& labelling) const {
+  // The label of the output cell each face's centroid lies in.
+  std::vector<int> face_labels(const Mesh& m, const CellGrid& out, const std::vector<int>& labelling) const {
     std::vector<int> fl(m.triangle_count(), 0);
     const Eigen::Matrix3d Ainv = grid_.A.inverse();
     for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
       Eigen::Vector3d c = Eigen::Vector3d::Zero();
       for (int corner = 0; corner < 3; ++corner)
         for (int i = 0; i < 3; ++i) c[i] += double(m.V(m.F(f, corner), i)) / 3.0;
-      const Eigen::Vector3d q = Ainv * (c - grid_.origin);
-      Eigen::Array3i cell;
-      for (int a = 0; a < 3; ++a) cell[a] = std::clamp(int(std::floor(q[a])), 0, out_cells[a] - 1);
-      fl[std::size_t(f)] = labelling[std::size_t(SeamMrf::linear(cell, out_cells))];
+      fl[std::size_t(f)] = labelling[std::size_t(out.index(out.cell_of(Ainv * (c - grid_.origin))))];
     }
     return fl;
   }
@@ -272,7 +284,7 @@ class Retargeter {
   Status status_;
   Lattice grid_;
   std::unique_ptr<CellDescriptors> cells_;
-  StitchCache cache_;
+  detail::stitch_cache_t<Stitcher> cache_;  // the stitcher's prepared cache, when it has one
   Eigen::Vector3d size_in_ = Eigen::Vector3d::Zero();
 };
 

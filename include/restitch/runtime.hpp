@@ -18,7 +18,7 @@
 #include <variant>
 #include <vector>
 
-#include "restitch/analysis.hpp"
+#include "restitch/analyze.hpp"
 #include "restitch/retarget.hpp"
 
 namespace restitch {

@@ -47,11 +47,11 @@
 #include <vector>
 
 #include "restitch/analysis.hpp"
+#include "restitch/lattice/grid.hpp"
 #include "restitch/lattice/lattice.hpp"
 
 namespace restitch {
 
-enum class Neighbourhood { n26, n6 };
 enum class SetDistance { hausdorff, mean_nearest };
 
 /// Feature descriptors grouped by input cell, with cached set distances.
@@ -61,19 +61,16 @@ class CellDescriptors {
 
   /// Groups the features of `analysis` by the cells of `grid` (model units).
   CellDescriptors(const Analysis& analysis, const Lattice& grid, SetDistance kind)
-      : descriptors_(&analysis.descriptors), cells_(grid.cells), kind_(kind) {
+      : descriptors_(&analysis.descriptors), grid_(grid.cells), kind_(kind) {
     const Eigen::Index n =
         std::min<Eigen::Index>(analysis.features.points.rows(), Eigen::Index(analysis.sampled_features));
-    members_.assign(std::size_t(cells_.prod()), {});
+    members_.assign(std::size_t(grid_.size()), {});
     const Eigen::Matrix3d Ainv = grid.A.inverse();
     for (Eigen::Index i = 0; i < n; ++i) {
       if (i >= analysis.descriptors.rows() || !analysis.descriptors.row(i).allFinite()) continue;
       const Eigen::Vector3d p =
           analysis.normalization.to_model(analysis.features.points.row(i).cast<double>().transpose());
-      const Eigen::Vector3d c = Ainv * (p - grid.origin);
-      Eigen::Array3i cell;
-      for (int a = 0; a < 3; ++a) cell[a] = std::clamp(int(std::floor(c[a])), 0, cells_[a] - 1);
-      members_[std::size_t(linear(cell))].push_back(int(i));
+      members_[std::size_t(grid_.index(grid_.cell_of(Ainv * (p - grid.origin))))].push_back(int(i));
     }
     double r = 0;
     for (Eigen::Index i = 0; i < analysis.descriptors.rows(); ++i)
@@ -81,9 +78,8 @@ class CellDescriptors {
     max_distance_ = r > 0 ? 2 * r : 2.0;
   }
 
-  const Eigen::Array3i& cells() const { return cells_; }
-  int linear(const Eigen::Array3i& c) const { return c[0] + cells_[0] * (c[1] + cells_[1] * c[2]); }
-  bool inside(const Eigen::Array3i& c) const { return (c >= 0).all() && (c < cells_).all(); }
+  /// The input cells the features are grouped by.
+  const CellGrid& grid() const { return grid_; }
   bool empty(int cell) const { return members_[std::size_t(cell)].empty(); }
   std::size_t features_in(int cell) const { return members_[std::size_t(cell)].size(); }
   double max_distance() const { return max_distance_; }
@@ -118,7 +114,7 @@ class CellDescriptors {
   }
 
   const DescriptorMatrix* descriptors_ = nullptr;
-  Eigen::Array3i cells_ = Eigen::Array3i::Ones();
+  CellGrid grid_;
   SetDistance kind_ = SetDistance::hausdorff;
   std::vector<std::vector<int>> members_;
   std::unordered_map<std::uint64_t, double> cache_;
@@ -128,9 +124,9 @@ class CellDescriptors {
 /// The labelling problem of one retarget request (solver problem contract).
 class SeamMrf {
  public:
-  /// `k`: grid steps per axis; `out_cells` = input cells + k.
-  SeamMrf(CellDescriptors& cells, const Eigen::Array3i& k, Neighbourhood nb) : in_(cells.cells()), k_(k) {
-    out_ = in_ + k_;
+  /// `k`: grid steps per axis; the output grid is the input cells + k.
+  SeamMrf(CellDescriptors& cells, const Eigen::Array3i& k, Neighbourhood nb)
+      : in_(cells.grid()), out_(cells.grid().dims + k), k_(k), span_(2 * k.abs() + 1) {
     empty_mismatch_ = 1000.0 * cells.max_distance();
     forbidden_ = 1000.0 * empty_mismatch_;
     // Labels: every shift with d_a between 0 and k_a, x fastest.
@@ -138,66 +134,13 @@ class SeamMrf {
       for (int v = 0; v <= std::abs(k[1]); ++v)
         for (int u = 0; u <= std::abs(k[0]); ++u)
           labels_.push_back(Eigen::Array3i(sign(k[0]) * u, sign(k[1]) * v, sign(k[2]) * w));
-    // Distances between input cells a and a + delta, |delta_a| <= |k_a|, for every input cell.
-    span_ = (2 * k_.abs() + 1);
-    const int deltas = span_.prod();
-    const int n_in = in_.prod();
-    table_.assign(std::size_t(n_in) * deltas, 0.0);
-    for (int c = 0; c < n_in; ++c) {
-      const Eigen::Array3i a = unlinear(c, in_);
-      for (int t = 0; t < deltas; ++t) {
-        const Eigen::Array3i delta = unlinear(t, span_) - k_.abs();
-        const Eigen::Array3i b = a + delta;
-        table_[std::size_t(c) * deltas + t] = cell_distance(cells, a, b);
-      }
-    }
-    // Edges: half of the neighbourhood, so each pair once.
-    std::vector<Eigen::Array3i> offsets;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const Eigen::Array3i o(dx, dy, dz);
-          const int l1 = std::abs(dx) + std::abs(dy) + std::abs(dz);
-          if (l1 == 0 || (nb == Neighbourhood::n6 && l1 != 1)) continue;
-          // forward half: first non-zero component positive (z, then y, then x)
-          const int first = dz != 0 ? dz : (dy != 0 ? dy : dx);
-          if (first > 0) offsets.push_back(o);
-        }
-    const int n = out_.prod();
-    for (int x = 0; x < n; ++x) {
-      const Eigen::Array3i cx = unlinear(x, out_);
-      for (const Eigen::Array3i& o : offsets) {
-        const Eigen::Array3i cy = cx + o;
-        if ((cy >= 0).all() && (cy < out_).all()) edges_.push_back({x, linear(cy, out_)});
-      }
-    }
-    // Unary table, anchors included.
-    const int m = label_count();
-    unary_.assign(std::size_t(n) * m, 0.0);
-    for (int x = 0; x < n; ++x) {
-      const Eigen::Array3i cx = unlinear(x, out_);
-      for (int l = 0; l < m; ++l) {
-        const Eigen::Array3i src = cx - labels_[l];
-        double u = inside(src, in_) ? 0.0 : forbidden_;
-        for (int a = 0; a < 3; ++a) {
-          if (k_[a] == 0) continue;
-          for (int side = 0; side < 2; ++side) {
-            const bool on_face = side == 0 ? cx[a] == 0 : cx[a] == out_[a] - 1;
-            if (!on_face) continue;
-            Eigen::Array3i anchor = labels_[l];
-            anchor[a] = side == 0 ? 0 : k_[a];
-            Eigen::Array3i outside = cx;
-            outside[a] += side == 0 ? -1 : 1;
-            u += seam(cx, labels_[l], anchor) + seam(outside, labels_[l], anchor);
-          }
-        }
-        unary_[std::size_t(x) * m + l] = u;
-      }
-    }
+    build_table(cells);
+    build_edges(nb);
+    build_unary();
   }
 
   // ---- the labelling-problem contract ----
-  int node_count() const { return out_.prod(); }
+  int node_count() const { return int(out_.size()); }
   int label_count() const { return int(labels_.size()); }
   double unary(int node, int label) const { return unary_[std::size_t(node) * labels_.size() + label]; }
   int edge_count() const { return int(edges_.size()); }
@@ -205,10 +148,11 @@ class SeamMrf {
   double pairwise(int e, int li, int lj) const {
     if (li == lj) return 0.0;
     const auto [x, y] = edges_[std::size_t(e)];
-    return seam(unlinear(x, out_), labels_[li], labels_[lj]) + seam(unlinear(y, out_), labels_[li], labels_[lj]);
+    return seam(out_.cell(x), labels_[li], labels_[lj]) + seam(out_.cell(y), labels_[li], labels_[lj]);
   }
 
-  const Eigen::Array3i& out_cells() const { return out_; }
+  /// The output cells (the nodes, in linear order).
+  const CellGrid& out_grid() const { return out_; }
   const std::vector<Eigen::Array3i>& labels() const { return labels_; }
   /// Label index of shift d, -1 if d is not a label.
   int label_of(const Eigen::Array3i& d) const {
@@ -223,42 +167,85 @@ class SeamMrf {
   std::vector<int> initial_labels() const {
     std::vector<int> lab(static_cast<std::size_t>(node_count()));
     for (int x = 0; x < node_count(); ++x) {
-      const Eigen::Array3i cx = unlinear(x, out_);
+      const Eigen::Array3i cx = out_.cell(x);
       Eigen::Array3i d = Eigen::Array3i::Zero();
-      for (int a = 0; a < 3; ++a) d[a] = (2 * cx[a] >= out_[a]) ? k_[a] : 0;
+      for (int a = 0; a < 3; ++a) d[a] = (2 * cx[a] >= out_.dims[a]) ? k_[a] : 0;
       lab[std::size_t(x)] = label_of(d);
     }
     return lab;
   }
 
-  static int linear(const Eigen::Array3i& c, const Eigen::Array3i& dims) {
-    return c[0] + dims[0] * (c[1] + dims[1] * c[2]);
-  }
-  static Eigen::Array3i unlinear(int i, const Eigen::Array3i& dims) {
-    return Eigen::Array3i(i % dims[0], (i / dims[0]) % dims[1], i / (dims[0] * dims[1]));
-  }
-
  private:
   static int sign(int v) { return v < 0 ? -1 : 1; }
-  static bool inside(const Eigen::Array3i& c, const Eigen::Array3i& dims) { return (c >= 0).all() && (c < dims).all(); }
+
+  // Distances between input cells a and a + delta, |delta_a| <= |k_a|, for every input cell.
+  void build_table(CellDescriptors& cells) {
+    const int deltas = int(span_.size());
+    const int n_in = int(in_.size());
+    table_.assign(std::size_t(n_in) * deltas, 0.0);
+    for (int c = 0; c < n_in; ++c) {
+      const Eigen::Array3i a = in_.cell(c);
+      for (int t = 0; t < deltas; ++t) {
+        const Eigen::Array3i b = a + span_.cell(t) - k_.abs();
+        table_[std::size_t(c) * deltas + t] = cell_distance(cells, a, b);
+      }
+    }
+  }
+
+  // Edges: the forward half of the neighbourhood, so each pair once.
+  void build_edges(Neighbourhood nb) {
+    const std::vector<Eigen::Array3i>& offsets = neighbour_offsets(nb, true);
+    const int n = node_count();
+    for (int x = 0; x < n; ++x) {
+      const Eigen::Array3i cx = out_.cell(x);
+      for (const Eigen::Array3i& o : offsets)
+        if (out_.inside(cx + o)) edges_.push_back({x, out_.index(cx + o)});
+    }
+  }
+
+  // Unary table: forbidden sources, plus the anchored ends (see the file comment).
+  void build_unary() {
+    const int n = node_count(), m = label_count();
+    unary_.assign(std::size_t(n) * m, 0.0);
+    for (int x = 0; x < n; ++x) {
+      const Eigen::Array3i cx = out_.cell(x);
+      for (int l = 0; l < m; ++l) {
+        double u = in_.inside(cx - labels_[l]) ? 0.0 : forbidden_;
+        for (int a = 0; a < 3; ++a) {
+          if (k_[a] == 0) continue;
+          for (int side = 0; side < 2; ++side) {
+            const bool on_face = side == 0 ? cx[a] == 0 : cx[a] == out_.dims[a] - 1;
+            if (!on_face) continue;
+            Eigen::Array3i anchor = labels_[l];
+            anchor[a] = side == 0 ? 0 : k_[a];
+            Eigen::Array3i outside = cx;
+            outside[a] += side == 0 ? -1 : 1;
+            u += seam(cx, labels_[l], anchor) + seam(outside, labels_[l], anchor);
+          }
+        }
+        unary_[std::size_t(x) * m + l] = u;
+      }
+    }
+  }
 
   double cell_distance(CellDescriptors& cells, const Eigen::Array3i& a, const Eigen::Array3i& b) const {
-    const bool ia = inside(a, in_), ib = inside(b, in_);
-    const bool ea = !ia || cells.empty(linear(a, in_)), eb = !ib || cells.empty(linear(b, in_));
+    const bool ia = in_.inside(a), ib = in_.inside(b);
+    const bool ea = !ia || cells.empty(in_.index(a)), eb = !ib || cells.empty(in_.index(b));
     if (ea && eb) return 0.0;
     if (ea != eb) return empty_mismatch_;
-    return cells.distance(linear(a, in_), linear(b, in_));
+    return cells.distance(in_.index(a), in_.index(b));
   }
   // D(x - di, x - dj), from the per-request table.
   double seam(const Eigen::Array3i& x, const Eigen::Array3i& di, const Eigen::Array3i& dj) const {
     const Eigen::Array3i a = x - di, b = x - dj;
-    const bool ia = inside(a, in_), ib = inside(b, in_);
-    if (ia) return table_[std::size_t(linear(a, in_)) * span_.prod() + linear(b - a + k_.abs(), span_)];
-    if (ib) return table_[std::size_t(linear(b, in_)) * span_.prod() + linear(a - b + k_.abs(), span_)];
+    if (in_.inside(a)) return table_[std::size_t(in_.index(a)) * span_.size() + span_.index(b - a + k_.abs())];
+    if (in_.inside(b)) return table_[std::size_t(in_.index(b)) * span_.size() + span_.index(a - b + k_.abs())];
     return 0.0;  // both outside: both empty
   }
 
-  Eigen::Array3i in_, out_, k_, span_;
+  CellGrid in_, out_;
+  Eigen::Array3i k_;
+  CellGrid span_;  // label differences: component a in [-|k_a|, |k_a|], stored shifted by |k_a|
   double empty_mismatch_ = 2000, forbidden_ = 2e6;
   std::vector<Eigen::Array3i> labels_;
   std::vector<double> table_, unary_;

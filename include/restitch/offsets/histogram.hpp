@@ -2,7 +2,7 @@
 //
 // method.md 1.4. Every matched feature casts one vote for its offset
 // v = y - x. Votes are binned in cubes of side `bin_size` (0.05 normalized):
-// bin index floor(v / bin_size) per axis, stored in a hash map because the
+// bin index floor(v / bin_size) per axis, stored in a hash map (detail/cell_hash.hpp) because the
 // space is sparse (a few thousand votes over a cube of side 4).
 //
 // Peaks (the candidates for dominant offsets) come from non-maximum
@@ -37,9 +37,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
+#include "restitch/detail/cell_hash.hpp"
 #include "restitch/status.hpp"
 
 namespace restitch {
@@ -81,13 +81,10 @@ struct HistogramPeak {
 
 namespace detail {
 
-/// Bin indices must fit 21 bits each (signed) to pack into one 64-bit key.
+/// Bin indices are kept within 2^20 of the origin: offsets farther out are not normalized.
 inline constexpr std::int64_t histogram_index_limit = (std::int64_t(1) << 20) - 1;
 
-inline std::uint64_t pack_bin(const Eigen::Vector3i& i) {
-  const auto u = [](int v) { return std::uint64_t(std::int64_t(v) + (std::int64_t(1) << 20)) & 0x1FFFFFu; };
-  return u(i.x()) | (u(i.y()) << 21) | (u(i.z()) << 42);
-}
+inline Cell bin_cell(const Eigen::Vector3i& i) { return Cell{i.x(), i.y(), i.z()}; }
 
 inline bool bin_index_less(const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
   if (a.x() != b.x()) return a.x() < b.x();
@@ -118,8 +115,7 @@ inline Status build_offset_histogram(const std::vector<Eigen::Vector3d>& offsets
   out.bin_size = bin_size;
   if (!(bin_size > 0) || !std::isfinite(bin_size))
     return error(StatusCode::invalid_argument, "the histogram bin size must be a positive finite number");
-  std::unordered_map<std::uint64_t, std::size_t> slot;  // key -> position in out.bins
-  slot.reserve(offsets.size());
+  detail::CellHashMap<std::size_t> slot(offsets.size());  // bin -> position in out.bins
   for (std::size_t k = 0; k < offsets.size(); ++k) {
     const Eigen::Vector3d f = offsets[k] / bin_size;
     if (!f.allFinite()) return error(StatusCode::invalid_argument, "offset " + std::to_string(k) + " is not finite");
@@ -127,9 +123,9 @@ inline Status build_offset_histogram(const std::vector<Eigen::Vector3d>& offsets
       return error(StatusCode::invalid_argument,
                    "offset " + std::to_string(k) + " lies too many bins from the origin (are the offsets normalized?)");
     const Eigen::Vector3i idx(int(std::floor(f.x())), int(std::floor(f.y())), int(std::floor(f.z())));
-    const auto ins = slot.emplace(detail::pack_bin(idx), out.bins.size());
+    const auto ins = slot.get(detail::bin_cell(idx), out.bins.size());
     if (ins.second) out.bins.push_back(OffsetBin{idx, 0});
-    ++out.bins[ins.first->second].votes;
+    ++out.bins[*ins.first].votes;
   }
   out.offsets = offsets.size();
   std::sort(out.bins.begin(), out.bins.end(), [](const OffsetBin& a, const OffsetBin& b) {
@@ -164,9 +160,8 @@ inline std::vector<HistogramPeak> find_peaks(const OffsetHistogram& h, double su
                   "the suppression radius must be a non-negative finite number");
   const double rb = suppression_radius / h.bin_size;
   const int r2 = int(std::floor(rb * rb + 1e-9));  // whole bins squared; 0.15 / 0.05 -> exactly 9
-  std::unordered_map<std::uint64_t, std::size_t> rank;
-  rank.reserve(h.bins.size());
-  for (std::size_t i = 0; i < h.bins.size(); ++i) rank.emplace(detail::pack_bin(h.bins[i].index), i);
+  detail::CellHashMap<std::size_t> rank(h.bins.size());  // bin -> its rank
+  for (std::size_t i = 0; i < h.bins.size(); ++i) rank.get(detail::bin_cell(h.bins[i].index), i);
   const std::vector<Eigen::Vector3i> ball = detail::ball_stencil(r2);
   const std::vector<Eigen::Vector3i> cube = detail::ball_stencil(3);  // the 26 neighbours
   std::vector<HistogramPeak> peaks;
@@ -174,8 +169,8 @@ inline std::vector<HistogramPeak> find_peaks(const OffsetHistogram& h, double su
     const OffsetBin& b = h.bins[i];
     bool is_peak = true;
     for (const Eigen::Vector3i& d : ball) {
-      const auto it = rank.find(detail::pack_bin(b.index + d));
-      if (it != rank.end() && it->second < i) {
+      const std::size_t* r = rank.find(detail::bin_cell(b.index + d));
+      if (r && *r < i) {
         is_peak = false;
         break;
       }
@@ -187,8 +182,8 @@ inline std::vector<HistogramPeak> find_peaks(const OffsetHistogram& h, double su
     p.votes = b.votes;
     p.mass = b.votes;
     for (const Eigen::Vector3i& d : cube) {
-      const auto it = rank.find(detail::pack_bin(b.index + d));
-      if (it != rank.end()) p.mass += h.bins[it->second].votes;
+      const std::size_t* r = rank.find(detail::bin_cell(b.index + d));
+      if (r) p.mass += h.bins[*r].votes;
     }
     peaks.push_back(p);
   }

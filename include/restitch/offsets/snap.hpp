@@ -27,8 +27,9 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
+
+#include "restitch/detail/cell_hash.hpp"
 
 namespace restitch {
 
@@ -55,14 +56,12 @@ inline SnapResult snap_offset(const Eigen::Matrix<double, Eigen::Dynamic, 3>& po
   if (n == 0 || !t.allFinite()) return result;
   // Hash grid with cells of start_radius: a query at radius r <= start_radius looks at 27 cells.
   const double h = options.start_radius;
-  auto key = [h](const Eigen::Vector3d& p) {
-    const std::int64_t x = std::int64_t(std::floor(p.x() / h)), y = std::int64_t(std::floor(p.y() / h)),
-                       z = std::int64_t(std::floor(p.z() / h));
-    return (std::uint64_t(x) * 73856093u) ^ (std::uint64_t(y) * 19349663u) ^ (std::uint64_t(z) * 83492791u);
+  auto cell = [h](const Eigen::Vector3d& p) {
+    return detail::Cell{std::int64_t(std::floor(p.x() / h)), std::int64_t(std::floor(p.y() / h)),
+                        std::int64_t(std::floor(p.z() / h))};
   };
-  std::unordered_multimap<std::uint64_t, Eigen::Index> grid;
-  grid.reserve(std::size_t(n));
-  for (Eigen::Index i = 0; i < n; ++i) grid.emplace(key(points.row(i).transpose()), i);
+  detail::CellChains grid{std::size_t(n)};
+  for (Eigen::Index i = 0; i < n; ++i) grid.insert(cell(points.row(i).transpose()), std::int32_t(i));
 
   Eigen::Vector3d cur = t;
   std::size_t pairs = 0;
@@ -76,11 +75,11 @@ inline SnapResult snap_offset(const Eigen::Matrix<double, Eigen::Dynamic, 3>& po
       for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)
           for (int dx = -1; dx <= 1; ++dx) {
-            const auto range = grid.equal_range(key(q + Eigen::Vector3d(dx, dy, dz) * h));
-            for (auto it = range.first; it != range.second; ++it) {
-              const double d2 = (points.row(it->second).transpose() - q).squaredNorm();
-              if (d2 < best || (d2 == best && hit >= 0 && it->second < hit)) best = d2, hit = it->second;
-            }
+            const detail::Cell c = cell(q + Eigen::Vector3d(dx, dy, dz) * h);
+            grid.for_each(c, [&](std::int32_t j) {
+              const double d2 = (points.row(j).transpose() - q).squaredNorm();
+              if (d2 < best || (d2 == best && hit >= 0 && j < hit)) best = d2, hit = j;
+            });
           }
       if (hit >= 0) sum += points.row(hit).transpose() - points.row(i).transpose(), ++pairs;
     }

@@ -53,6 +53,7 @@
 #include <vector>
 
 #include "restitch/descriptor/descriptor.hpp"
+#include "restitch/detail/cell_hash.hpp"
 #include "restitch/mesh.hpp"
 #include "restitch/normalization.hpp"
 #include "restitch/progress.hpp"
@@ -86,7 +87,7 @@ inline std::uint64_t bounded_index(std::mt19937_64& g, std::uint64_t n) {
 /// [lo, hi] given at construction (up to rounding). The cell heads live in a
 /// dense array when it has at most max(2^20, 8 * expected) cells (small and
 /// cache-friendly), else in an open-addressing hash table (linear probing,
-/// grows at load 1/2). Each cell chains its points through `next_`.
+/// grows at load 1/2: detail/cell_hash.hpp). Each cell chains its points through `next_`.
 class PointGrid {
  public:
   /// Largest number of cells along an axis; callers check with check_grid_range.
@@ -100,13 +101,10 @@ class PointGrid {
       dims_[a] = static_cast<std::int64_t>(std::floor((hi[a] - lo[a]) / cell_)) + 3;  // one pad cell each side
       cells *= double(dims_[a]);
     }
-    if (cells <= std::max(double(1 << 20), 8.0 * double(expected))) {
+    if (cells <= std::max(double(1 << 20), 8.0 * double(expected)))
       dense_.assign(static_cast<std::size_t>(cells), -1);
-    } else {
-      std::size_t cap = 64;
-      while (cap < 2 * expected + 2) cap *= 2;
-      slots_.assign(cap, Slot{});
-    }
+    else
+      sparse_ = detail::CellHashMap<std::int32_t>(expected);
     points_.reserve(expected), next_.reserve(expected);
   }
 
@@ -143,61 +141,29 @@ class PointGrid {
   std::size_t size() const { return points_.size(); }
 
  private:
-  struct Slot {
-    std::int64_t key = -1;  // -1: empty slot
-    std::int32_t head = -1;
-  };
   bool inside(const std::int64_t* c) const {
     return c[0] >= 0 && c[1] >= 0 && c[2] >= 0 && c[0] < dims_[0] && c[1] < dims_[1] && c[2] < dims_[2];
   }
-  std::int64_t key(const std::int64_t* c) const { return (c[0] * dims_[1] + c[1]) * dims_[2] + c[2]; }
-  static std::size_t hash(std::int64_t k) {
-    std::uint64_t h = static_cast<std::uint64_t>(k) * 0x9E3779B97F4A7C15ull;
-    return static_cast<std::size_t>(h ^ (h >> 31));
+  std::size_t dense_index(const std::int64_t* c) const {
+    return static_cast<std::size_t>((c[0] * dims_[1] + c[1]) * dims_[2] + c[2]);
   }
   std::int32_t head(const std::int64_t* c) const {
     if (!inside(c)) return -1;
-    const std::int64_t k = key(c);
-    if (!dense_.empty()) return dense_[static_cast<std::size_t>(k)];
-    const std::size_t mask = slots_.size() - 1;
-    for (std::size_t i = hash(k) & mask;; i = (i + 1) & mask) {
-      if (slots_[i].key == k) return slots_[i].head;
-      if (slots_[i].key < 0) return -1;
-    }
+    if (!dense_.empty()) return dense_[dense_index(c)];
+    const std::int32_t* h = sparse_.find({c[0], c[1], c[2]});
+    return h ? *h : -1;
   }
   std::int32_t* head_slot(const std::int64_t* c) {
     if (!inside(c)) return nullptr;
-    const std::int64_t k = key(c);
-    if (!dense_.empty()) return &dense_[static_cast<std::size_t>(k)];
-    if (2 * (used_ + 1) > slots_.size()) grow();
-    const std::size_t mask = slots_.size() - 1;
-    for (std::size_t i = hash(k) & mask;; i = (i + 1) & mask) {
-      if (slots_[i].key == k) return &slots_[i].head;
-      if (slots_[i].key < 0) {
-        slots_[i].key = k;
-        ++used_;
-        return &slots_[i].head;
-      }
-    }
-  }
-  void grow() {
-    std::vector<Slot> old(slots_.size() * 2, Slot{});
-    old.swap(slots_);
-    const std::size_t mask = slots_.size() - 1;
-    for (const Slot& s : old) {
-      if (s.key < 0) continue;
-      std::size_t i = hash(s.key) & mask;
-      while (slots_[i].key >= 0) i = (i + 1) & mask;
-      slots_[i] = s;
-    }
+    if (!dense_.empty()) return &dense_[dense_index(c)];
+    return sparse_.get({c[0], c[1], c[2]}, -1).first;
   }
 
   double r2_, cell_;
   Eigen::Vector3d lo_;
   std::int64_t dims_[3];
-  std::vector<std::int32_t> dense_;
-  std::vector<Slot> slots_;
-  std::size_t used_ = 0;
+  std::vector<std::int32_t> dense_;        // cell heads when the box is small
+  detail::CellHashMap<std::int32_t> sparse_;  // else hashed
   std::vector<std::int32_t> next_;
   std::vector<Eigen::Vector3d> points_;
 };

@@ -1,0 +1,74 @@
+// restitch/stitch/detail/regions.hpp - the regions of a labelling: maximal 6-connected cells sharing one label.
+//
+// A region is what the stitcher copies in one piece: its cells, its shift d
+// and its translation A d. An output cell whose source x - d lies outside the
+// input grid belongs to no region (region -1) and stays empty. Regions are
+// numbered by their first output cell in linear order; each one's cells are
+// listed in ascending linear order. Cost O(#output cells).
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "restitch/lattice/grid.hpp"
+#include "restitch/lattice/lattice.hpp"
+
+namespace restitch::detail {
+
+struct StitchRegions {
+  std::vector<std::int32_t> region_of;  ///< per output cell, -1 = empty
+  std::vector<Eigen::Array3i> shift;    ///< label shift d of each region
+  std::vector<Eigen::Vector3d> translation;  ///< A d of each region, model units
+  std::vector<std::uint32_t> start, cells;   ///< CSR: cells of region r are cells[start[r] .. start[r + 1])
+
+  std::size_t size() const { return shift.size(); }
+
+  /// Does input cell (i, j, k), moved by region r's shift, land in region r?
+  bool holds_source_cell(const CellGrid& out, std::int32_t r, int i, int j, int k) const {
+    const Eigen::Array3i& d = shift[std::size_t(r)];
+    const std::int64_t x = std::int64_t(i) + d(0), y = std::int64_t(j) + d(1), z = std::int64_t(k) + d(2);
+    if (!out.inside(x, y, z)) return false;
+    return region_of[std::size_t(x + out.dims(0) * (y + std::int64_t(out.dims(1)) * z))] == r;
+  }
+};
+
+/// The regions of `cell_shift` (one label per output cell of `out`, linear order) over the input `lattice`.
+inline StitchRegions build_regions(const Lattice& lattice, const CellGrid& out,
+                                   const std::vector<Eigen::Array3i>& cell_shift) {
+  StitchRegions g;
+  const std::size_t n = cell_shift.size();
+  const CellGrid in(lattice.cells);
+  g.region_of.assign(n, -1);
+  std::vector<std::uint8_t> valid(n, 0);
+  for (std::size_t x = 0; x < n; ++x) {
+    const Eigen::Array3i c = out.cell(std::int64_t(x));
+    const Eigen::Array3i& d = cell_shift[x];
+    valid[x] = in.inside(std::int64_t(c[0]) - d(0), std::int64_t(c[1]) - d(1), std::int64_t(c[2]) - d(2));
+  }
+  std::vector<std::uint32_t> queue;
+  g.start.assign(1, 0);
+  for (std::size_t seed = 0; seed < n; ++seed) {
+    if (!valid[seed] || g.region_of[seed] >= 0) continue;
+    const std::int32_t r = std::int32_t(g.shift.size());
+    g.shift.push_back(cell_shift[seed]);
+    queue.assign(1, std::uint32_t(seed));
+    g.region_of[seed] = r;
+    for (std::size_t q = 0; q < queue.size(); ++q)
+      out.for_each_neighbour(queue[q], Neighbourhood::n6, [&](int y) {
+        if (valid[std::size_t(y)] && g.region_of[std::size_t(y)] < 0 &&
+            (cell_shift[std::size_t(y)] == cell_shift[seed]).all()) {
+          g.region_of[std::size_t(y)] = r;
+          queue.push_back(std::uint32_t(y));
+        }
+      });
+    std::sort(queue.begin(), queue.end());
+    g.cells.insert(g.cells.end(), queue.begin(), queue.end());
+    g.start.push_back(std::uint32_t(g.cells.size()));
+  }
+  for (const Eigen::Array3i& d : g.shift) g.translation.push_back(lattice.shift(d));
+  return g;
+}
+
+}  // namespace restitch::detail
