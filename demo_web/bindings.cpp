@@ -60,7 +60,7 @@
 #include "restitch/mesh.hpp"
 #include "restitch/retarget.hpp"
 #include "restitch/runtime.hpp"
-#include "restitch/samples/samples.hpp"
+#include "restitch/families/families.hpp"
 
 #ifndef RESTITCH_VERSION_STRING
 #define RESTITCH_VERSION_STRING "0.0.0"
@@ -123,7 +123,7 @@ class Session {
         values[key] = overrides[key].as<double>();
       }
     }
-    Result<samples::SampleModel> s = samples::generate(name, values);
+    Result<families::SampleModel> s = families::generate(name, values);
     if (!s) return status_object(s.status());
     val generators = val::array();  // the sample's true repeats (model units): the tests' known answer
     for (const Eigen::Vector3d& g : s->generators) generators.call<void>("push", vec3(g));
@@ -335,13 +335,13 @@ std::string version() { return "restitch " RESTITCH_VERSION_STRING; }
 
 val samples_catalog() {
   val list = val::array();
-  for (const samples::SampleInfo& s : samples::catalog()) {
+  for (const families::SampleInfo& s : families::catalog()) {
     val o = val::object();
     o.set("name", s.name);
     o.set("description", s.description);
     o.set("units", s.units);
     val params = val::array();
-    for (const samples::Parameter& p : s.parameters) {
+    for (const families::Parameter& p : s.parameters) {
       val q = val::object();
       q.set("name", p.name);
       q.set("value", p.value);

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "restitch/families/families.hpp"
 #include "restitch/restitch.hpp"
 
 // 16 values: for each neighbour within `radius`, its octant (sign of dx, dy,
@@ -72,7 +73,7 @@ struct LoopMatcher {
 };
 
 int main() {
-  restitch::Result<restitch::samples::SampleModel> sample = restitch::samples::generate("pin_header");
+  restitch::Result<restitch::families::SampleModel> sample = restitch::families::generate("pin_header");
   if (!sample) return std::fprintf(stderr, "%s\n", sample.status().message().c_str()), 1;
   restitch::AnalysisOptions<OctantDescriptor, LoopMatcher> options;
   restitch::Result<restitch::Analysis> analysis = restitch::analyze(sample->mesh, options);

@@ -1,5 +1,5 @@
 // Tests of restitch/descriptor/{shot,fpfh,xyzn}.hpp: hand-computed SHOT and
-// FPFH values from PCL's conventions (docs/pcl-conventions.md), invariance to
+// FPFH values from PCL's conventions (docs/descriptors.md), invariance to
 // an exact translation, the edge cases (too few neighbours, a point at exactly
 // R, isolated points, NaN input), argument checks, the text formats, and, when
 // built with RESTITCH_PCL_ORACLE="path/to/pcl_descriptor_oracle", a comparison
@@ -193,7 +193,7 @@ TEST_CASE("SHOT: fewer than 5 neighbours, a point at exactly R, duplicates, NaN"
 namespace {
 // Three points for FPFH by hand (R = 2, everything within range):
 //   P0 (0,0,0) n (0,0,1);  P1 (1,0,0) n (0.6,0,0.8);  P2 (0,1,0) n (0,0,1).
-// Pair features (docs/pcl-conventions.md F2), bins (f1, f2, f3):
+// Pair features (docs/descriptors.md F2), bins (f1, f2, f3):
 //   P0-P1: the source is P1 (its normal is more parallel to the line),
 //          u = (0.6,0,0.8), v = (0,1,0), w = (-0.8,0,0.6): f1 = atan2(0.6, 0.8),
 //          f2 = 0, f3 = -0.6 -> bins (6, 5, 2).

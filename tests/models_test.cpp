@@ -7,6 +7,7 @@
 
 #include <fstream>
 
+#include "restitch/io/gltf.hpp"
 #include "restitch/restitch.hpp"
 
 using namespace restitch;

@@ -4,6 +4,7 @@
 
 #include <map>
 
+#include "restitch/families/families.hpp"
 #include "restitch/restitch.hpp"
 #include "support/surface_distance.hpp"
 
@@ -12,7 +13,7 @@ using namespace restitch;
 namespace {
 
 struct Prepared {
-  samples::SampleModel sample;
+  families::SampleModel sample;
   Analysis analysis;
 };
 
@@ -21,7 +22,7 @@ const Prepared& prepared(const std::string& name) {
   static std::map<std::string, Prepared> cache;
   auto it = cache.find(name);
   if (it != cache.end()) return it->second;
-  auto s = samples::generate(name);
+  auto s = families::generate(name);
   REQUIRE(s.ok());
   auto a = analyze(s->mesh);
   REQUIRE(a.ok());
@@ -48,7 +49,7 @@ Eigen::Array3i steps_along(const Prepared& p, std::size_t g, int k) {
 
 TEST_CASE("retarget: each sample family resized by k steps equals the family generated with k more repeats",
           "[retarget][samples]") {
-  for (const samples::SampleInfo& info : samples::catalog()) {
+  for (const families::SampleInfo& info : families::catalog()) {
     const Prepared& p = prepared(info.name);
     Retargeter<> r(p.sample.mesh, p.analysis);
     REQUIRE(r.status().ok());
@@ -58,7 +59,7 @@ TEST_CASE("retarget: each sample family resized by k steps equals the family gen
         INFO("steps " << k);
         auto out = r.retarget(steps_along(p, g, k));
         REQUIRE(out.ok());
-        auto truth = samples::generate(info.name, {{p.sample.count_parameters[g], p.sample.counts[g] + k}});
+        auto truth = families::generate(info.name, {{p.sample.count_parameters[g], p.sample.counts[g] + k}});
         REQUIRE(truth.ok());
         const BoundingBox bt = bounding_box(truth->mesh), bo = bounding_box(out->mesh);
         const double size = bt.size().norm();

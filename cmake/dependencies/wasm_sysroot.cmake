@@ -1,7 +1,7 @@
 # Emscripten must never see /usr/include (glibc headers break it), and
 # find_package does not see Debian's packages under emcmake. So the
 # Emscripten configuration gets a build-local folder of symbolic links to
-# exactly the header-only dependencies, added with -isystem (toolchain.md).
+# exactly the header-only dependencies, added with -isystem (docs/building.md).
 if(EMSCRIPTEN)
   set(RESTITCH_WASM_SYSROOT "${CMAKE_BINARY_DIR}/wasm-deps")
   file(MAKE_DIRECTORY "${RESTITCH_WASM_SYSROOT}")

@@ -8,7 +8,7 @@
 //
 // The same ES6 artefact serves all three environments. Under node the loader
 // wants `require` and `__dirname` as globals and cannot fetch a file: URL, so
-// this sets them and hands it the .wasm bytes (toolchain.md).
+// this sets them and hands it the .wasm bytes (docs/building.md).
 // Cost: fetching and compiling about 0.5 MB of WebAssembly, once.
 
 const moduleUrl = new URL('../dist/restitch_web.mjs', import.meta.url);

@@ -21,6 +21,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "restitch/families/families.hpp"
+#include "restitch/io/gltf.hpp"
+#include "restitch/io/json_report.hpp"
 #include "restitch/restitch.hpp"
 
 using namespace restitch;
@@ -44,13 +47,13 @@ double best_of(int n, F&& f) {
 }
 
 // The sample with the smallest detail level giving at least `triangles`.
-samples::SampleModel sample_near(const std::string& family, std::size_t triangles) {
+families::SampleModel sample_near(const std::string& family, std::size_t triangles) {
   for (int detail = 1; detail <= 64; ++detail) {
-    auto s = samples::generate(family, {{"detail", double(detail)}});
+    auto s = families::generate(family, {{"detail", double(detail)}});
     if (s && (s->mesh.triangle_count() >= triangles || detail == 64)) return std::move(*s);
     if (!s) break;
   }
-  return std::move(*samples::generate(family));
+  return std::move(*families::generate(family));
 }
 
 int first_real_axis(const Analysis& a) {
@@ -61,29 +64,16 @@ int first_real_axis(const Analysis& a) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  bool quick = false;
-  std::string json_path = "bench.json";
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--quick"))
-      quick = true;
-    else if (!std::strcmp(argv[i], "--json") && i + 1 < argc)
-      json_path = argv[++i];
-    else
-      return std::fprintf(stderr, "usage: bench [--quick] [--json FILE]\n"), 2;
-  }
-  nlohmann::json out;
-  const std::vector<std::string> families = {"bookshelf", "facade", "facade_sheared", "fence", "pin_header"};
+namespace {
 
-  // 1. Analysis per stage at growing sizes.
+// 1. Analysis per stage at growing sizes.
+void bench_analysis(const std::vector<std::size_t>& sizes, nlohmann::json& out) {
   std::printf("== analysis: ms per stage (defaults: SHOT, brute-force matcher)\n");
   std::printf("%-15s %8s %8s %9s %9s %9s %9s %9s %9s %9s\n", "sample", "tris", "features", "sampling", "descript",
               "matching", "histogr", "refine", "lattice", "total");
-  const std::vector<std::size_t> sizes =
-      quick ? std::vector<std::size_t>{0, 20000} : std::vector<std::size_t>{0, 20000, 50000, 200000};
   for (const std::string& family : {std::string("bookshelf"), std::string("fence")}) {
     for (std::size_t target : sizes) {
-      samples::SampleModel s = sample_near(family, target);
+      families::SampleModel s = sample_near(family, target);
       const auto t = clock_type::now();
       auto a = analyze(s.mesh);
       const double total = ms_since(t);
@@ -104,8 +94,10 @@ int main(int argc, char** argv) {
                                  {"principal", a->principal.size()}});
     }
   }
+}
 
-  // 2. SHOT speed: 3000 queries on the faces of a box, support = the same points.
+// 2. SHOT speed: 3000 queries on the faces of a box, support = the same points.
+void bench_shot(nlohmann::json& out) {
   {
     std::mt19937_64 rng(5);
     auto u = [&] { return float(double(rng() >> 11) * (1.0 / 9007199254740992.0)); };
@@ -139,13 +131,15 @@ int main(int argc, char** argv) {
                    {"ms", ms},
                    {"points_per_s", n / (ms / 1000.0)}};
   }
+}
 
-  // 3. The paper's comparison: lattice labels vs the regular baseline.
+// 3. The paper's comparison: lattice labels vs the regular baseline.
+void bench_label_spaces(const std::vector<std::string>& families, nlohmann::json& out) {
   std::printf("\n== lattice vs regular labels, +2 steps along v1\n");
   std::printf("%-15s %-8s %7s %7s %9s %12s %9s %9s\n", "sample", "labels", "nodes", "labels", "solve ms", "energy",
               "stitch", "tris out");
   for (const std::string& family : families) {
-    auto s = samples::generate(family);
+    auto s = families::generate(family);
     auto a = analyze(s->mesh);
     if (!a || a->principal.empty()) continue;
     Eigen::Array3i steps = Eigen::Array3i::Zero();
@@ -166,12 +160,14 @@ int main(int argc, char** argv) {
       out["comparison"].push_back(j);
     }
   }
+}
 
-  // 4a. Scaling with nodes x labels: the fence, more and more pickets added.
+// 4a. Scaling with nodes x labels: the fence, more and more pickets added.
+void bench_scaling_labels(bool quick, nlohmann::json& out) {
   std::printf("\n== scaling with nodes x labels (fence, detail 2)\n%7s %7s %7s %10s %10s %10s %10s\n", "steps", "nodes",
               "labels", "energy ms", "solve ms", "stitch ms", "total ms");
   {
-    auto s = samples::generate("fence");
+    auto s = families::generate("fence");
     auto a = analyze(s->mesh);
     Retargeter<> r(s->mesh, *a);
     for (int k : {1, 2, 4, 8, 16, 32}) {
@@ -188,12 +184,15 @@ int main(int argc, char** argv) {
           {{"steps", k}, {"nodes", res->report.nodes}, {"labels", res->report.labels}, {"timings_ms", t}});
     }
   }
-  // 4b. Retarget (solve + stitch) against triangles: the bookshelf at growing detail, +2 columns.
+}
+
+// 4b. Retarget (solve + stitch) against triangles: the bookshelf at growing detail, +2 columns.
+void bench_scaling_triangles(const std::vector<std::size_t>& sizes, nlohmann::json& out) {
   std::printf(
       "\n== retarget after analysis against triangles (bookshelf, +2 columns, second call)\n%9s %10s %10s %10s %10s\n",
       "tris", "energy ms", "solve ms", "stitch ms", "total ms");
   for (std::size_t target : sizes) {
-    samples::SampleModel s = sample_near("bookshelf", target);
+    families::SampleModel s = sample_near("bookshelf", target);
     auto a = analyze(s.mesh);
     if (!a || a->principal.empty()) continue;
     Retargeter<> r(s.mesh, *a);
@@ -212,8 +211,10 @@ int main(int argc, char** argv) {
     out["scaling_triangles"].push_back(
         {{"triangles", s.mesh.triangle_count()}, {"triangles_out", rep.triangles_out}, {"timings_ms", rep.timings_ms}});
   }
+}
 
-  // 5. Synthetic: 1000 nodes x 30 labels, 26-neighbourhood, truncated linear.
+// 5. Synthetic: 1000 nodes x 30 labels, 26-neighbourhood, truncated linear.
+void bench_synthetic(bool quick, nlohmann::json& out) {
   {
     const int side = 10, m = 30;
     TableMrf mrf(side * side * side, m);
@@ -248,7 +249,31 @@ int main(int argc, char** argv) {
     out["synthetic"] = {{"nodes", mrf.node_count()}, {"labels", m},         {"edges", mrf.edge_count()}, {"ms", ms},
                         {"cycles", rep.cycles},      {"energy", rep.energy}};
   }
+}
 
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::string json_path = "bench.json";
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--quick"))
+      quick = true;
+    else if (!std::strcmp(argv[i], "--json") && i + 1 < argc)
+      json_path = argv[++i];
+    else
+      return std::fprintf(stderr, "usage: bench [--quick] [--json FILE]\n"), 2;
+  }
+  nlohmann::json out;
+  const std::vector<std::string> families = {"bookshelf", "facade", "facade_sheared", "fence", "pin_header"};
+  const std::vector<std::size_t> sizes =
+      quick ? std::vector<std::size_t>{0, 20000} : std::vector<std::size_t>{0, 20000, 50000, 200000};
+  bench_analysis(sizes, out);
+  bench_shot(out);
+  bench_label_spaces(families, out);
+  bench_scaling_labels(quick, out);
+  bench_scaling_triangles(sizes, out);
+  bench_synthetic(quick, out);
   std::ofstream(json_path) << out.dump(2) << "\n";
   std::printf("\nwrote %s\n", json_path.c_str());
   return 0;

@@ -21,164 +21,137 @@ std::string join(const std::vector<int>& v) {
 }
 }  // namespace
 
+namespace {
+
+struct ResizeArgs {
+  std::string input, output, json, dump_mrf, descriptor = "shot", matcher = "brute_force", labels = "lattice";
+  std::vector<int> steps;
+  std::vector<double> size;
+  std::size_t max_problem = RetargetOptions().max_problem_size;
+};
+
+// The lattice steps of a request: --steps as given, or the nearest to --size.
+Result<Eigen::Array3i> requested_steps(const ResizeArgs& args, const Analysis& a, AnyRetargeter& r, bool quiet) {
+  if (!args.steps.empty()) return lattice_steps_from_principal(a, args.steps);
+  Result<Eigen::Array3i> s = r.steps_for_size(Eigen::Vector3d(args.size[0], args.size[1], args.size[2]));
+  if (s && !quiet)
+    std::printf("size %g x %g x %g: nearest achievable with steps %s\n", args.size[0], args.size[1], args.size[2],
+                join(principal_steps_from_lattice(a, *s)).c_str());
+  return s;
+}
+
+void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen::Array3i& steps,
+                          const RetargetReport& rep) {
+  const auto principal = a.principal_model_units();
+  std::printf("%s: %zu principal offset(s)", args.input.c_str(), principal.size());
+  for (const auto& v : principal) std::printf("  (%.4g, %.4g, %.4g)", v.x(), v.y(), v.z());
+  std::printf("\n  steps %s: %d x %d x %d cells -> %d x %d x %d\n", join(principal_steps_from_lattice(a, steps)).c_str(),
+              rep.cells_in[0], rep.cells_in[1], rep.cells_in[2], rep.cells_out[0], rep.cells_out[1], rep.cells_out[2]);
+  std::printf("  graph cut (%s labels): %d nodes, %d labels, %d cycles, energy %.6g, solve %.1f ms\n",
+              args.labels.c_str(), rep.nodes, rep.labels, rep.cycles, rep.energy,
+              rep.timings_ms.count("solve") ? rep.timings_ms.at("solve") : 0.0);
+  std::printf("  size %.4g x %.4g x %.4g -> %.4g x %.4g x %.4g\n", rep.size_in.x(), rep.size_in.y(), rep.size_in.z(),
+              rep.size_out.x(), rep.size_out.y(), rep.size_out.z());
+  std::printf("  wrote %s: %zu triangles in, %zu out\n", args.output.c_str(), rep.triangles_in, rep.triangles_out);
+}
+
+// `restitch resize`: returns the exit code.
+int run_resize(const ResizeArgs& args) {
+  if (args.steps.empty() && args.size.empty()) {
+    std::fprintf(stderr, "restitch resize: give --steps a[,b[,c]] or --size X,Y,Z\n");
+    return exit_usage;
+  }
+  const bool quiet = args.json == "-";
+  Mesh mesh;
+  Result<Analysis> a = load_and_analyze(args.input, args.descriptor, args.matcher, mesh, quiet);
+  if (!a) return fail(a.status());
+  RetargetOptions options;
+  options.max_problem_size = args.max_problem;
+  AnyRetargeter r(mesh, *a, args.labels, options);
+  if (!r.status()) return fail(r.status());
+  Result<Eigen::Array3i> steps = requested_steps(args, *a, r, quiet);
+  if (!steps) return fail(steps.status());
+  if (!args.dump_mrf.empty()) {
+    Result<SeamMrf> problem = r.labelling_problem(*steps);
+    if (!problem) return fail(problem.status());
+    if (Status s = write_mrf(args.dump_mrf, *problem); !s) return fail(s, true);
+  }
+  Result<RetargetResult> out = r.retarget(*steps, terminal_progress());
+  if (!out) return fail(out.status());
+  if (Status s = save_gltf(out->mesh, args.output); !s) return fail(s, true);
+  nlohmann::json j = retarget_json(out->report);
+  j["steps_principal"] = principal_steps_from_lattice(*a, *steps);
+  j["label_space"] = args.labels;
+  j["file"] = args.output;
+  if (!quiet) print_resize_summary(args, *a, *steps, out->report);
+  if (!args.json.empty())
+    if (Status s = write_json(j, args.json); !s) return fail(s, true);
+  return exit_ok;
+}
+
+void register_resize(CLI::App& app, int* exit_code) {
+  auto args = std::make_shared<ResizeArgs>();
+  CLI::App* cmd = app.add_subcommand("resize", "Resize a model along its repeats by graph-cut stitching");
+  cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
+  cmd->add_option("-o,--output", args->output, "output model (.glb or .gltf)")->required();
+  auto* steps =
+      cmd->add_option("--steps", args->steps, "repeats to add along principal offsets 1[,2[,3]] (negative removes)")
+          ->delimiter(',')
+          ->expected(1, 3);
+  auto* size = cmd->add_option("--size", args->size, "target bounding-box size X,Y,Z in model units (0 keeps an axis)")
+                   ->delimiter(',')
+                   ->expected(3);
+  steps->excludes(size);
+  add_policy_options(cmd, args->descriptor, args->matcher);
+  cmd->add_option("--labels", args->labels, "label space: lattice (principal offsets) or regular (the paper's baseline)")
+      ->check(CLI::IsMember(label_space_names()))
+      ->capture_default_str();
+  cmd->add_option("--max-problem", args->max_problem, "refuse requests with more nodes x labels than this")
+      ->capture_default_str();
+  cmd->add_option("--dump-mrf", args->dump_mrf, "also write the labelling problem solved to FILE (see `restitch solve`)");
+  cmd->add_option("--json", args->json, "also write the report as JSON to FILE, or - for standard output");
+  cmd->callback([args, exit_code] { *exit_code = run_resize(*args); });
+}
+
+struct SolveArgs {
+  std::string input, json, solver = "alpha_expansion";
+};
+
+// `restitch solve`: returns the exit code.
+int run_solve(const SolveArgs& args) {
+  Result<TableMrf> problem = read_mrf(args.input);
+  if (!problem) return fail(problem.status());
+  std::vector<int> labels(std::size_t(problem->node_count()), 0);
+  SolveReport rep;
+  if (Status s = AlphaExpansion<>().solve(*problem, labels, rep, terminal_progress()); !s) return fail(s);
+  nlohmann::json j = {{"solver", args.solver}, {"nodes", rep.nodes},
+                      {"labels", rep.labels},  {"edges", rep.edges},
+                      {"energy", rep.energy},  {"initial_energy", rep.initial_energy},
+                      {"cycles", rep.cycles},  {"non_metric", rep.non_metric_detected},
+                      {"ms", rep.ms},          {"labelling", labels}};
+  if (args.json != "-")
+    std::printf("%s: %d nodes, %d labels, %d edges; %s: energy %.10g after %d cycles in %.2f ms%s\n",
+                args.input.c_str(), rep.nodes, rep.labels, rep.edges, args.solver.c_str(), rep.energy, rep.cycles,
+                rep.ms, rep.non_metric_detected ? " (non-metric terms met)" : "");
+  if (!args.json.empty())
+    if (Status s = write_json(j, args.json); !s) return fail(s, true);
+  return exit_ok;
+}
+
+void register_solve(CLI::App& app, int* exit_code) {
+  auto args = std::make_shared<SolveArgs>();
+  CLI::App* cmd = app.add_subcommand("solve", "Solve a labelling problem written by `restitch resize --dump-mrf`");
+  cmd->add_option("input", args->input, "problem file (format: restitch/solver/mrf_io.hpp)")->required();
+  cmd->add_option("--solver", args->solver, "solver")->check(CLI::IsMember({"alpha_expansion"}))->capture_default_str();
+  cmd->add_option("--json", args->json, "also write the result as JSON to FILE, or - for standard output");
+  cmd->callback([args, exit_code] { *exit_code = run_solve(*args); });
+}
+
+}  // namespace
+
 void register_retarget_commands(CLI::App& app, int* exit_code) {
-  {
-    struct Args {
-      std::string input, output, json, dump_mrf, descriptor = "shot", matcher = "brute_force", labels = "lattice";
-      std::vector<int> steps;
-      std::vector<double> size;
-      std::size_t max_problem = RetargetOptions().max_problem_size;
-    };
-    auto args = std::make_shared<Args>();
-    CLI::App* cmd = app.add_subcommand("resize", "Resize a model along its repeats by graph-cut stitching");
-    cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
-    cmd->add_option("-o,--output", args->output, "output model (.glb or .gltf)")->required();
-    auto* steps =
-        cmd->add_option("--steps", args->steps, "repeats to add along principal offsets 1[,2[,3]] (negative removes)")
-            ->delimiter(',')
-            ->expected(1, 3);
-    auto* size =
-        cmd->add_option("--size", args->size, "target bounding-box size X,Y,Z in model units (0 keeps an axis)")
-            ->delimiter(',')
-            ->expected(3);
-    steps->excludes(size);
-    add_policy_options(cmd, args->descriptor, args->matcher);
-    cmd->add_option("--labels", args->labels,
-                    "label space: lattice (principal offsets) or regular (the paper's baseline)")
-        ->check(CLI::IsMember(label_space_names()))
-        ->capture_default_str();
-    cmd->add_option("--max-problem", args->max_problem, "refuse requests with more nodes x labels than this")
-        ->capture_default_str();
-    cmd->add_option("--dump-mrf", args->dump_mrf,
-                    "also write the labelling problem solved to FILE (see `restitch solve`)");
-    cmd->add_option("--json", args->json, "also write the report as JSON to FILE, or - for standard output");
-    cmd->callback([args, exit_code] {
-      if (args->steps.empty() && args->size.empty()) {
-        std::fprintf(stderr, "restitch resize: give --steps a[,b[,c]] or --size X,Y,Z\n");
-        *exit_code = exit_usage;
-        return;
-      }
-      const bool quiet = args->json == "-";
-      Mesh mesh;
-      Result<Analysis> a = load_and_analyze(args->input, args->descriptor, args->matcher, mesh, quiet);
-      if (!a) {
-        *exit_code = fail(a.status());
-        return;
-      }
-      RetargetOptions options;
-      options.max_problem_size = args->max_problem;
-      AnyRetargeter r(mesh, *a, args->labels, options);
-      if (!r.status()) {
-        *exit_code = fail(r.status());
-        return;
-      }
-      Eigen::Array3i steps;
-      if (!args->steps.empty()) {
-        Result<Eigen::Array3i> s = lattice_steps_from_principal(*a, args->steps);
-        if (!s) {
-          *exit_code = fail(s.status());
-          return;
-        }
-        steps = *s;
-      } else {
-        Result<Eigen::Array3i> s = r.steps_for_size(Eigen::Vector3d(args->size[0], args->size[1], args->size[2]));
-        if (!s) {
-          *exit_code = fail(s.status());
-          return;
-        }
-        steps = *s;
-        if (!quiet)
-          std::printf("size %g x %g x %g: nearest achievable with steps %s\n", args->size[0], args->size[1],
-                      args->size[2], join(principal_steps_from_lattice(*a, steps)).c_str());
-      }
-      if (!args->dump_mrf.empty()) {
-        Result<SeamMrf> problem = r.labelling_problem(steps);
-        if (!problem) {
-          *exit_code = fail(problem.status());
-          return;
-        }
-        if (Status s = write_mrf(args->dump_mrf, *problem); !s) {
-          *exit_code = fail(s, true);
-          return;
-        }
-      }
-      Result<RetargetResult> out = r.retarget(steps, terminal_progress());
-      if (!out) {
-        *exit_code = fail(out.status());
-        return;
-      }
-      if (Status s = save_gltf(out->mesh, args->output); !s) {
-        *exit_code = fail(s, true);
-        return;
-      }
-      const RetargetReport& rep = out->report;
-      nlohmann::json j = retarget_json(rep);
-      j["steps_principal"] = principal_steps_from_lattice(*a, steps);
-      j["label_space"] = args->labels;
-      j["file"] = args->output;
-      if (!quiet) {
-        const auto principal = a->principal_model_units();
-        std::printf("%s: %zu principal offset(s)", args->input.c_str(), principal.size());
-        for (const auto& v : principal) std::printf("  (%.4g, %.4g, %.4g)", v.x(), v.y(), v.z());
-        std::printf("\n  steps %s: %d x %d x %d cells -> %d x %d x %d\n",
-                    join(principal_steps_from_lattice(*a, steps)).c_str(), rep.cells_in[0], rep.cells_in[1], rep.cells_in[2],
-                    rep.cells_out[0], rep.cells_out[1], rep.cells_out[2]);
-        std::printf("  graph cut (%s labels): %d nodes, %d labels, %d cycles, energy %.6g, solve %.1f ms\n",
-                    args->labels.c_str(), rep.nodes, rep.labels, rep.cycles, rep.energy,
-                    rep.timings_ms.count("solve") ? rep.timings_ms.at("solve") : 0.0);
-        std::printf("  size %.4g x %.4g x %.4g -> %.4g x %.4g x %.4g\n", rep.size_in.x(), rep.size_in.y(),
-                    rep.size_in.z(), rep.size_out.x(), rep.size_out.y(), rep.size_out.z());
-        std::printf("  wrote %s: %zu triangles in, %zu out\n", args->output.c_str(), rep.triangles_in,
-                    rep.triangles_out);
-      }
-      if (!args->json.empty())
-        if (Status s = write_json(j, args->json); !s) {
-          *exit_code = fail(s, true);
-          return;
-        }
-      *exit_code = exit_ok;
-    });
-  }
-  {
-    struct Args {
-      std::string input, json, solver = "alpha_expansion";
-    };
-    auto args = std::make_shared<Args>();
-    CLI::App* cmd = app.add_subcommand("solve", "Solve a labelling problem written by `restitch resize --dump-mrf`");
-    cmd->add_option("input", args->input, "problem file (format: restitch/solver/mrf_io.hpp)")->required();
-    cmd->add_option("--solver", args->solver, "solver")
-        ->check(CLI::IsMember({"alpha_expansion"}))
-        ->capture_default_str();
-    cmd->add_option("--json", args->json, "also write the result as JSON to FILE, or - for standard output");
-    cmd->callback([args, exit_code] {
-      Result<TableMrf> problem = read_mrf(args->input);
-      if (!problem) {
-        *exit_code = fail(problem.status());
-        return;
-      }
-      std::vector<int> labels(std::size_t(problem->node_count()), 0);
-      SolveReport rep;
-      if (Status s = AlphaExpansion<>().solve(*problem, labels, rep, terminal_progress()); !s) {
-        *exit_code = fail(s);
-        return;
-      }
-      nlohmann::json j = {{"solver", args->solver}, {"nodes", rep.nodes},
-                          {"labels", rep.labels},   {"edges", rep.edges},
-                          {"energy", rep.energy},   {"initial_energy", rep.initial_energy},
-                          {"cycles", rep.cycles},   {"non_metric", rep.non_metric_detected},
-                          {"ms", rep.ms},           {"labelling", labels}};
-      if (args->json != "-")
-        std::printf("%s: %d nodes, %d labels, %d edges; %s: energy %.10g after %d cycles in %.2f ms%s\n",
-                    args->input.c_str(), rep.nodes, rep.labels, rep.edges, args->solver.c_str(), rep.energy, rep.cycles,
-                    rep.ms, rep.non_metric_detected ? " (non-metric terms met)" : "");
-      if (!args->json.empty())
-        if (Status s = write_json(j, args->json); !s) {
-          *exit_code = fail(s, true);
-          return;
-        }
-      *exit_code = exit_ok;
-    });
-  }
+  register_resize(app, exit_code);
+  register_solve(app, exit_code);
 }
 
 }  // namespace restitch::cli

@@ -5,7 +5,7 @@
 
 #include "cli.hpp"
 #include "restitch/io/gltf.hpp"
-#include "restitch/samples/samples.hpp"
+#include "restitch/families/families.hpp"
 
 namespace restitch::cli {
 
@@ -16,9 +16,9 @@ void register_sample(CLI::App& app, int* exit_code) {
   };
   auto args = std::make_shared<Args>();
   std::string footer = "Samples and their parameters (--NAME VALUE):\n";
-  for (const samples::SampleInfo& info : samples::catalog()) {
+  for (const families::SampleInfo& info : families::catalog()) {
     footer += "  " + info.name + ": " + info.description + "\n   ";
-    for (const samples::Parameter& p : info.parameters)
+    for (const families::Parameter& p : info.parameters)
       footer += " --" + p.name + " " + CLI::detail::to_string(p.value);
     footer += "\n";
   }
@@ -30,7 +30,7 @@ void register_sample(CLI::App& app, int* exit_code) {
   cmd->footer(footer);
   cmd->callback([args, exit_code, cmd] {
     if (args->list) {
-      for (const samples::SampleInfo& info : samples::catalog())
+      for (const families::SampleInfo& info : families::catalog())
         std::printf("%s\t%s\n", info.name.c_str(), info.description.c_str());
       *exit_code = exit_ok;
       return;
@@ -60,7 +60,7 @@ void register_sample(CLI::App& app, int* exit_code) {
       }
       overrides[key.substr(2)] = v;
     }
-    Result<samples::SampleModel> model = samples::generate(args->name, overrides);
+    Result<families::SampleModel> model = families::generate(args->name, overrides);
     if (!model) {
       *exit_code = fail(model.status());
       return;

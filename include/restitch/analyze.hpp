@@ -1,6 +1,6 @@
 // restitch/analyze.hpp - the analysis driver: offset statistics, principal offsets and the lattice of a mesh.
 //
-// `restitch::analyze(mesh, options, progress)` runs method.md section 1 end to
+// `restitch::analyze(mesh, options, progress)` runs docs/method.md section 1 end to
 // end and returns an `Analysis`: everything the retarget step needs, so
 // nothing is computed twice.
 //

@@ -1,6 +1,6 @@
 // restitch/normalization.hpp - the normalized frame every analysis length lives in.
 //
-// method.md: the model is centred and scaled so that its longest bounding-box
+// docs/method.md: the model is centred and scaled so that its longest bounding-box
 // side spans [-1, 1]: p_norm = (p - center) * scale, scale = 2 / longest side.
 // All analysis parameters (sampling spacings, descriptor radius, tau, bin
 // size, suppression radius) are in these units; everything reported to a

@@ -2,13 +2,14 @@
 //
 // restitch resizes man-made 3D models the way a modeller would: it finds how
 // the model repeats (restitch::analyze: offset statistics of matched
-// descriptors, method.md section 1), then rebuilds it longer, taller or
+// descriptors, docs/method.md section 1), then rebuilds it longer, taller or
 // shorter by stitching translated copies of itself along those repeats, with
 // seams chosen by graph cut (restitch::Retargeter / restitch::retarget,
 // sections 2 and 3).
 //
-//   #define RESTITCH_GLTF_IMPLEMENTATION   // in exactly one .cpp of your program
-//   #include <restitch/restitch.hpp>
+//   #include <restitch/restitch.hpp>          // the algorithms
+//   #define RESTITCH_GLTF_IMPLEMENTATION      // in exactly one .cpp of your program
+//   #include <restitch/io/gltf.hpp>           // opt-in: glTF reading and writing
 //
 //   restitch::Result<restitch::Mesh> mesh = restitch::load_gltf("shelf.glb");
 //   restitch::Result<restitch::Analysis> a = restitch::analyze(*mesh);
@@ -23,24 +24,26 @@
 // (ClipStitcher). Each contract is documented in its header and checked by a
 // static_assert at the entry point. No call throws; each returns a Status or
 // a Result.
+//
+// Opt-in headers, not included here because they bring heavy dependencies or
+// code most programs do not need: restitch/io/gltf.hpp (glTF I/O, tinygltf),
+// restitch/io/json_report.hpp (JSON reports, nlohmann::json),
+// restitch/families/families.hpp (the generated sample families with exact
+// ground truth), restitch/descriptor/xyzn.hpp (point files) and
+// restitch/solver/mrf_io.hpp (labelling-problem files).
 #pragma once
 
 #include "restitch/analyze.hpp"
 #include "restitch/descriptor/fpfh.hpp"
 #include "restitch/descriptor/shot.hpp"
-#include "restitch/descriptor/xyzn.hpp"
 #include "restitch/energy/seam_energy.hpp"
-#include "restitch/io/gltf.hpp"
-#include "restitch/io/json_report.hpp"
 #include "restitch/lattice/label_space.hpp"
 #include "restitch/matcher/brute_force.hpp"
 #include "restitch/matcher/reduced.hpp"
 #include "restitch/mesh.hpp"
 #include "restitch/retarget.hpp"
 #include "restitch/runtime.hpp"
-#include "restitch/samples/samples.hpp"
 #include "restitch/solver/alpha_expansion.hpp"
 #include "restitch/solver/max_flow_bk.hpp"
 #include "restitch/solver/mrf.hpp"
-#include "restitch/solver/mrf_io.hpp"
 #include "restitch/stitch/stitch.hpp"

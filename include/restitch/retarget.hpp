@@ -1,4 +1,4 @@
-// restitch/retarget.hpp - resize a model along its repeats (method.md sections 2 and 3).
+// restitch/retarget.hpp - resize a model along its repeats (docs/method.md sections 2 and 3).
 //
 //   Result<Analysis> a = restitch::analyze(mesh);
 //   restitch::Retargeter<> r(mesh, *a);          // once per (mesh, analysis)

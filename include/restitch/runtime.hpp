@@ -4,7 +4,7 @@
 // user pick one (the CLI's --descriptor, the web page's dropdowns) needs a
 // closed set of instantiations to choose from. This header is that set:
 // names in, the matching instantiation called. It is a std::variant / a
-// switch over names, not a virtual base class (style.md).
+// switch over names, not a virtual base class: the policies stay templates, and only this file knows the closed set.
 //
 //   descriptors  "shot" (default), "fpfh"
 //   matchers     "brute_force" (default, the exact reference), "reduced" (PCA candidates with exact

@@ -5,7 +5,7 @@
 // `FPFHEstimation` with the queries as input cloud and the support set as
 // search surface (`setSearchSurface(support)`, normals of the support), to
 // about 1e-3 on a scale of 100. PCL's conventions are kept
-// (docs/pcl-conventions.md, N and F):
+// (docs/descriptors.md, N and F):
 //
 //   * Neighbours: support points j with float32 d2(q, j) < float(R*R)
 //     (strict), as SHOT.

@@ -3,7 +3,7 @@
 //
 // `detail::RadiusSearch` builds one nanoflann k-d tree over a set of support
 // points and answers "which support points lie within R of q?" exactly as PCL
-// 1.13's KdTreeFLANN does (docs/pcl-conventions.md, N1-N2):
+// 1.13's KdTreeFLANN does (docs/descriptors.md, N1-N2):
 //
 //   * the squared distance is computed in float32 as ((dx*dx + dy*dy) + dz*dz)
 //     (FLANN's L2_Simple<float>), and a point j is a neighbour iff

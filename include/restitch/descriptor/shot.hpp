@@ -6,7 +6,7 @@
 // `SHOTEstimation` given identity reference frames through
 // `setInputReferenceFrames` (one per query) and the support set as search
 // surface, to about 1e-5 (measured against PCL: see tests/descriptor_test.cpp).
-// Every PCL convention is kept (docs/pcl-conventions.md, N and S):
+// Every PCL convention is kept (docs/descriptors.md, N and S):
 //
 //   * Neighbours of a query q: support points j with float32
 //     d2(q, j) < float(R*R) (strict; the query itself counts when it is a
@@ -139,7 +139,10 @@ struct ShotDescriptor {
   }
 
  private:
-  // Adds every neighbour's interpolated votes to h (352 floats).
+  // Adds every neighbour's interpolated votes to h (352 floats). One loop of
+  // about 85 lines on purpose: it is SHOT's inner loop, the quadrilinear
+  // interpolation of PCL's SHOTEstimation step by step (docs/descriptors.md, S1-S6),
+  // and reads best side by side with PCL's own.
   static void accumulate(const PointSet& support, const float* q, const std::vector<detail::Neighbour>& nn,
                          const std::int8_t* slot, const double* delta, double r, float* h) {
     using namespace detail;

@@ -1,4 +1,4 @@
-// restitch/energy/seam_energy.hpp - the labelling energy of method.md 2.3-2.4.
+// restitch/energy/seam_energy.hpp - the labelling energy of docs/method.md 2.3-2.4.
 //
 // CellDescriptors groups the analysis' feature descriptors by the grid cell
 // their feature lies in (canonical floor, clamped into the grid like the

@@ -1,6 +1,6 @@
 // restitch/lattice/fit.hpp - fits the lattice of principal offsets to a mesh: canonical space, grid phase, cells.
 //
-// method.md 1.7. Given the three axes (principal offsets and dummies,
+// docs/method.md 1.7. Given the three axes (principal offsets and dummies,
 // normalized units; see offsets/principal.hpp), A = [v1 v2 v3] and canonical
 // coordinates c = A^-1 (p - o). This header chooses the origin o, i.e. the
 // phase of the cell planes c_a = integer along each axis, and counts the

@@ -1,6 +1,6 @@
 // restitch/lattice/label_space.hpp - label-space policies: the cell grid labels live on.
 //
-// method.md 2.2 and 2.6. A label is a shift d = (du, dv, dw) in cells: output
+// docs/method.md 2.2 and 2.6. A label is a shift d = (du, dv, dw) in cells: output
 // cell x copies input cell x - d. A label space decides which grid the cells
 // are (its `Lattice`) and how a request in steps along the principal offsets
 // becomes a number of cells to add along each grid axis (`grid_steps`); the
@@ -62,7 +62,7 @@ struct LatticeLabels {
 /// The paper's baseline: a regular axis-aligned grid of `cell` normalized units.
 struct RegularLabels {
   static constexpr const char* name = "regular";
-  double cell = 0.1;  ///< normalized units (method.md 2.6)
+  double cell = 0.1;  ///< normalized units (docs/method.md 2.6)
 
   Status grid(const Mesh& mesh, const Analysis& analysis, Lattice& out) const {
     if (!(cell > 0)) return error(StatusCode::invalid_argument, "the regular grid's cell size must be positive");

@@ -1,6 +1,6 @@
 // restitch/lattice/lattice.hpp - the lattice of principal offsets: canonical space and cells.
 //
-// method.md 1.7: A = [v1 v2 v3] holds the principal offsets as columns (dummy
+// docs/method.md 1.7: A = [v1 v2 v3] holds the principal offsets as columns (dummy
 // directions fill up to three). Canonical coordinates c = A^-1 (p - origin)
 // turn the lattice into unit cubes, so a sheared lattice becomes
 // axis-aligned. Cell (i, j, k) is the unit cube [i, i+1) x [j, j+1) x [k, k+1)

@@ -1,4 +1,4 @@
-// restitch/matcher/brute_force.hpp - the exact reference matcher (method.md 1.3).
+// restitch/matcher/brute_force.hpp - the exact reference matcher (docs/method.md 1.3).
 //
 // BruteForceMatcher implements the matcher contract of matcher/matcher.hpp
 // (read it for the exact answer) by looking at every pair:

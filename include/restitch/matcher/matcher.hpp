@@ -1,4 +1,4 @@
-// restitch/matcher/matcher.hpp - the matcher policy contract (method.md 1.3).
+// restitch/matcher/matcher.hpp - the matcher policy contract (docs/method.md 1.3).
 //
 // For every feature x a matcher finds the feature y minimising the descriptor
 // distance |S(y) - S(x)|_2 subject to |y - x| > tau; the offset y - x is one

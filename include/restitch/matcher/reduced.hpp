@@ -1,4 +1,4 @@
-// restitch/matcher/reduced.hpp - PCA lower bounds, exact re-ranking (method.md 1.3).
+// restitch/matcher/reduced.hpp - PCA lower bounds, exact re-ranking (docs/method.md 1.3).
 //
 // ReducedMatcher implements the matcher contract of matcher/matcher.hpp and
 // returns exactly what BruteForceMatcher returns (same targets, same

@@ -5,7 +5,7 @@
 // a good part of the model maps onto itself, ranked, each marked significant
 // or not. Principal offsets are then chosen greedily among the significant
 // ones (offsets/principal.hpp). restitch ships the paper's histogram
-// detector; a later autocorrelation detector (method.md 4) plugs in here too.
+// detector; a later autocorrelation detector (docs/method.md 4) plugs in here too.
 //
 // The contract (checked by `is_offset_detector_v<T>`; the analysis
 // static_asserts it with a readable message):
@@ -24,7 +24,7 @@
 //
 // Run-time parameters are members of the policy object.
 //
-// HistogramOffsetDetector (method.md 1.4-1.5):
+// HistogramOffsetDetector (docs/method.md 1.4-1.5):
 //  1. Histogram: one vote per matched feature, v = y - x, bins of 0.05, peaks
 //     by non-maximum suppression with radius 0.15, ranked by mass
 //     (offsets/histogram.hpp). Sparsity of the histogram (Fig. 5).

@@ -1,6 +1,6 @@
 // restitch/offsets/histogram.hpp - the 3-D offset histogram, its peaks and its sparsity.
 //
-// method.md 1.4. Every matched feature casts one vote for its offset
+// docs/method.md 1.4. Every matched feature casts one vote for its offset
 // v = y - x. Votes are binned in cubes of side `bin_size` (0.05 normalized):
 // bin index floor(v / bin_size) per axis, stored in a hash map (detail/cell_hash.hpp) because the
 // space is sparse (a few thousand votes over a cube of side 4).

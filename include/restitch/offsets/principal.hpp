@@ -1,6 +1,6 @@
 // restitch/offsets/principal.hpp - principal offsets from dominant offsets, and dummy directions.
 //
-// method.md 1.6 (the paper's Sec. V). Greedy over the dominant offsets in
+// docs/method.md 1.6 (the paper's Sec. V). Greedy over the dominant offsets in
 // their ranked order: v1 = the first; v2 = the first with
 // |cos angle(v1, v2)| <= cos(min_angle); v3 = the first that passes that test
 // against both v1 and v2. At most three. min_angle is pi/3 (60 degrees); an

@@ -1,6 +1,6 @@
 // restitch/offsets/refine.hpp - translation-only ICP of a point cloud onto itself.
 //
-// method.md 1.5. A histogram peak knows its offset only to a bin (0.05). The
+// docs/method.md 1.5. A histogram peak knows its offset only to a bin (0.05). The
 // offset t is refined by aligning P + t onto P, the dense point cloud onto
 // itself, counting only the overlap (pairs closer than a trimming distance).
 //

@@ -1,6 +1,6 @@
 // restitch/sampling/features.hpp - mesh vertices as features, and joining point sets.
 //
-// method.md 1.1: "All mesh vertices are features too, but cap them: above a
+// docs/method.md 1.1: "All mesh vertices are features too, but cap them: above a
 // limit (default 20 000) subsample vertices to the dense spacing." The
 // analysis uses features = concat(poisson_disk_sample(..., 0.06, ...),
 // vertex_features(...)).
@@ -69,21 +69,18 @@ inline PointSet concat(const PointSet& a, const PointSet& b) {
 }
 
 /// The mesh vertices as features (see the top of this header).
-inline Result<PointSet> vertex_features(const Mesh& mesh, const Normalization& norm, std::size_t cap = 20000,
-                                        double subsample_spacing = 0.02, std::uint64_t seed = 1) {
-  if (!(subsample_spacing > 0) || !std::isfinite(subsample_spacing))
-    return error(StatusCode::invalid_argument, "the vertex subsampling spacing must be a positive finite number");
-  if (mesh.F.rows() == 0) return error(StatusCode::invalid_mesh, "the mesh has no triangles");
-  const Eigen::Index nv = mesh.V.rows();
-  if (mesh.F.maxCoeff() >= static_cast<std::uint32_t>(nv))
-    return error(StatusCode::invalid_mesh, "a triangle refers to a vertex index past the end of the vertex list");
-  if (cap == 0) return PointSet{};
+namespace detail {
 
-  // Referenced vertices, checked.
+/// Representative of each referenced vertex position: equal positions map to
+/// their lowest index (rep), `order` lists the referenced vertices sorted by
+/// (x, y, z, index). Fails on a non-finite referenced vertex.
+inline Status merge_equal_positions(const Mesh& mesh, std::vector<std::uint32_t>& rep,
+                                    std::vector<std::uint32_t>& order) {
+  const Eigen::Index nv = mesh.V.rows();
   std::vector<char> used(static_cast<std::size_t>(nv), 0);
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
     for (int k = 0; k < 3; ++k) used[mesh.F(f, k)] = 1;
-  std::vector<std::uint32_t> order;
+  order.clear();
   for (Eigen::Index i = 0; i < nv; ++i) {
     if (!used[static_cast<std::size_t>(i)]) continue;
     if (!mesh.V.row(i).allFinite())
@@ -91,8 +88,6 @@ inline Result<PointSet> vertex_features(const Mesh& mesh, const Normalization& n
                    "vertex " + std::to_string(i) + " has a non-finite coordinate (NaN or infinity)");
     order.push_back(static_cast<std::uint32_t>(i));
   }
-
-  // Merge equal positions: sort by (x, y, z, index); each run maps to its first (lowest) index.
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     for (int k = 0; k < 3; ++k) {
       const float pa = mesh.V(a, k), pb = mesh.V(b, k);
@@ -101,7 +96,7 @@ inline Result<PointSet> vertex_features(const Mesh& mesh, const Normalization& n
     }
     return a < b;
   });
-  std::vector<std::uint32_t> rep(static_cast<std::size_t>(nv), 0);
+  rep.assign(static_cast<std::size_t>(nv), 0);
   for (std::size_t k = 0; k < order.size();) {
     std::size_t e = k + 1;
     while (e < order.size() && mesh.V(order[e], 0) == mesh.V(order[k], 0) &&
@@ -110,13 +105,18 @@ inline Result<PointSet> vertex_features(const Mesh& mesh, const Normalization& n
     for (std::size_t j = k; j < e; ++j) rep[order[j]] = order[k];
     k = e;
   }
+  return {};
+}
 
-  // Area-weighted normals per representative, plus the largest-face fallback.
-  const Eigen::Index nf = mesh.F.rows();
-  std::vector<Eigen::Vector3d> sum(static_cast<std::size_t>(nv), Eigen::Vector3d::Zero());
-  std::vector<double> best_area(static_cast<std::size_t>(nv), 0.0);
-  std::vector<Eigen::Vector3d> best_normal(static_cast<std::size_t>(nv), Eigen::Vector3d(0, 0, 1));
-  for (Eigen::Index f = 0; f < nf; ++f) {
+/// Area-weighted normal sums per representative (`sum`), and the normal of
+/// each one's largest face as the fallback for a zero sum (`best_normal`).
+inline void representative_normals(const Mesh& mesh, const std::vector<std::uint32_t>& rep,
+                                   std::vector<Eigen::Vector3d>& sum, std::vector<Eigen::Vector3d>& best_normal) {
+  const std::size_t nv = static_cast<std::size_t>(mesh.V.rows());
+  sum.assign(nv, Eigen::Vector3d::Zero());
+  best_normal.assign(nv, Eigen::Vector3d(0, 0, 1));
+  std::vector<double> best_area(nv, 0.0);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
     const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)).transpose().cast<double>();
     const Eigen::Vector3d b = mesh.V.row(mesh.F(f, 1)).transpose().cast<double>();
     const Eigen::Vector3d c = mesh.V.row(mesh.F(f, 2)).transpose().cast<double>();
@@ -131,41 +131,65 @@ inline Result<PointSet> vertex_features(const Mesh& mesh, const Normalization& n
       if (len > best_area[r]) best_area[r] = len, best_normal[r] = n / len;
     }
   }
+}
 
+/// Thins `reps` (ascending) to at most `cap`: a Poisson-disk pass at `spacing`
+/// in a seeded random order, then an even stride if still over the cap.
+template <class Position>
+Status thin_vertices(std::vector<std::uint32_t>& reps, std::size_t cap, double spacing, std::uint64_t seed,
+                     const Position& position) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  for (std::uint32_t v : reps) {
+    const Eigen::Vector3d p = position(v);
+    lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  }
+  RESTITCH_TRY(check_grid_range(lo, hi, spacing));
+  std::vector<std::uint32_t> visit = reps;
+  std::mt19937_64 rng(seed);
+  for (std::size_t i = visit.size(); i > 1; --i) std::swap(visit[i - 1], visit[bounded_index(rng, i)]);
+  PointGrid grid(spacing, lo, hi, reps.size());
+  std::vector<std::uint32_t> kept;
+  for (std::uint32_t v : visit) {
+    const Eigen::Vector3d p = position(v).template cast<float>().template cast<double>();
+    if (!grid.far_from_all(p)) continue;
+    grid.insert(p);
+    kept.push_back(v);
+  }
+  std::sort(kept.begin(), kept.end());
+  if (kept.size() > cap) {
+    std::vector<std::uint32_t> strided(cap);
+    for (std::size_t k = 0; k < cap; ++k)
+      strided[k] = kept[static_cast<std::size_t>((static_cast<unsigned long long>(k) * kept.size()) /
+                                                 cap)];  // k * kept < 2^64 for any real mesh
+    kept.swap(strided);
+  }
+  reps.swap(kept);
+  return {};
+}
+
+}  // namespace detail
+
+inline Result<PointSet> vertex_features(const Mesh& mesh, const Normalization& norm, std::size_t cap = 20000,
+                                        double subsample_spacing = 0.02, std::uint64_t seed = 1) {
+  if (!(subsample_spacing > 0) || !std::isfinite(subsample_spacing))
+    return error(StatusCode::invalid_argument, "the vertex subsampling spacing must be a positive finite number");
+  if (mesh.F.rows() == 0) return error(StatusCode::invalid_mesh, "the mesh has no triangles");
+  const Eigen::Index nv = mesh.V.rows();
+  if (mesh.F.maxCoeff() >= static_cast<std::uint32_t>(nv))
+    return error(StatusCode::invalid_mesh, "a triangle refers to a vertex index past the end of the vertex list");
+  if (cap == 0) return PointSet{};
+
+  std::vector<std::uint32_t> rep, order;
+  RESTITCH_TRY(detail::merge_equal_positions(mesh, rep, order));
+  std::vector<Eigen::Vector3d> sum, best_normal;
+  detail::representative_normals(mesh, rep, sum, best_normal);
   std::vector<std::uint32_t> reps;
   for (std::uint32_t v : order)
     if (rep[v] == v) reps.push_back(v);
   std::sort(reps.begin(), reps.end());
 
   auto position = [&](std::uint32_t v) { return norm.to_normalized(mesh.V.row(v).transpose().cast<double>()); };
-  if (reps.size() > cap) {
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
-    for (std::uint32_t v : reps) {
-      const Eigen::Vector3d p = position(v);
-      lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    }
-    RESTITCH_TRY(detail::check_grid_range(lo, hi, subsample_spacing));
-    std::vector<std::uint32_t> visit = reps;
-    std::mt19937_64 rng(seed);
-    for (std::size_t i = visit.size(); i > 1; --i) std::swap(visit[i - 1], visit[detail::bounded_index(rng, i)]);
-    detail::PointGrid grid(subsample_spacing, lo, hi, reps.size());
-    std::vector<std::uint32_t> kept;
-    for (std::uint32_t v : visit) {
-      const Eigen::Vector3d p = position(v).cast<float>().cast<double>();
-      if (!grid.far_from_all(p)) continue;
-      grid.insert(p);
-      kept.push_back(v);
-    }
-    std::sort(kept.begin(), kept.end());
-    if (kept.size() > cap) {
-      std::vector<std::uint32_t> strided(cap);
-      for (std::size_t k = 0; k < cap; ++k)
-        strided[k] = kept[static_cast<std::size_t>((static_cast<unsigned long long>(k) * kept.size()) /
-                                                   cap)];  // k * kept < 2^64 for any real mesh
-      kept.swap(strided);
-    }
-    reps.swap(kept);
-  }
+  if (reps.size() > cap) RESTITCH_TRY(detail::thin_vertices(reps, cap, subsample_spacing, seed, position));
 
   PointSet out;
   out.points.resize(static_cast<Eigen::Index>(reps.size()), 3);

@@ -1,6 +1,6 @@
 // restitch/sampling/poisson_disk.hpp - Poisson-disk samples of a triangle surface.
 //
-// method.md 1.1: the analysis samples the surface at two spacings, dense 0.02
+// docs/method.md 1.1: the analysis samples the surface at two spacings, dense 0.02
 // (descriptor support) and feature 0.06 (features). Each sample keeps the unit
 // normal of the triangle it lies on.
 //

@@ -140,6 +140,9 @@ class ExpansionRun {
   }
 
   /// One expansion move for label alpha; `improved` says whether it was taken.
+  /// (About 90 lines: the graph construction of one move is kept in one piece
+  /// because it is the solver's hot loop and its steps share the per-move
+  /// tables; issue 11 reworks it for reuse between moves.)
   Status expand(int alpha, bool& improved) {
     improved = false;
     int nv = 0;

@@ -6,7 +6,7 @@
 //   E(labels) = sum_i unary(i, labels[i]) + sum_e pairwise(e, labels[a_e], labels[b_e])
 //
 // where edge e joins nodes (a_e, b_e) = edge(e). In restitch a node is an
-// output cell and a label a shift (method.md section 2), but the solver knows
+// output cell and a label a shift (docs/method.md section 2), but the solver knows
 // nothing of that. Any type satisfying this contract is a problem:
 //
 //   struct MyProblem {
@@ -20,7 +20,7 @@
 //   };
 //
 // Values must be finite: a forbidden assignment is a large finite constant
-// (restitch uses 1e9), never an infinity or NaN. The solver calls unary() and
+// (restitch's seam energy uses 1000 x 1000 x the largest descriptor distance, 2e6 for SHOT), never an infinity or NaN. The solver calls unary() and
 // pairwise() many times (about 3 E + N per expansion move), so they should be
 // cheap (a table look-up or a short formula); a problem object is only read.
 // `is_labelling_problem_v<P>` checks the contract at compile time.

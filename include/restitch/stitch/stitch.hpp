@@ -1,6 +1,6 @@
 // restitch/stitch/stitch.hpp - the stitcher: a labelled output lattice -> a real triangle mesh.
 //
-// method.md section 3. The solver gives every output cell x (linear index
+// docs/method.md section 3. The solver gives every output cell x (linear index
 // x = i + U_out * (j + V_out * k)) a label, a shift d = (du, dv, dw) in cells:
 // output cell x copies input cell s = x - d, translated by A d (model units).
 // For each *region* (a maximal 6-connected set of output cells sharing one

@@ -1,6 +1,6 @@
-// Tests of restitch/samples/samples.hpp (the parametric sample models) and of
+// Tests of restitch/families/families.hpp (the generated families: parametric sample models) and of
 // the test-only surface distance oracle in tests/support/surface_distance.hpp.
-#include "restitch/samples/samples.hpp"
+#include "restitch/families/families.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -12,8 +12,8 @@
 
 using restitch::Mesh;
 using restitch::StatusCode;
-using restitch::samples::generate;
-using restitch::samples::SampleModel;
+using restitch::families::generate;
+using restitch::families::SampleModel;
 using restitch::test::symmetric_surface_distance;
 using Vec3 = Eigen::Vector3d;
 
@@ -29,7 +29,7 @@ SampleModel make(const std::string& name, const std::map<std::string, double>& o
 }
 
 double param_default(const std::string& sample, const std::string& param) {
-  for (const auto& s : restitch::samples::catalog())
+  for (const auto& s : restitch::families::catalog())
     if (s.name == sample)
       for (const auto& p : s.parameters)
         if (p.name == param) return p.value;
@@ -109,7 +109,7 @@ bool bit_equal(const Mesh& a, const Mesh& b) {
 }  // namespace
 
 TEST_CASE("catalog lists every sample in a fixed order with sane parameters", "[samples]") {
-  const auto& cat = restitch::samples::catalog();
+  const auto& cat = restitch::families::catalog();
   REQUIRE(cat.size() == kNames.size());
   for (std::size_t i = 0; i < cat.size(); ++i) {
     CHECK(cat[i].name == kNames[i]);
@@ -131,7 +131,7 @@ TEST_CASE("catalog lists every sample in a fixed order with sane parameters", "[
     }
     CHECK(has_detail);
   }
-  CHECK(&restitch::samples::catalog() == &cat);
+  CHECK(&restitch::families::catalog() == &cat);
 }
 
 TEST_CASE("every sample generates with its defaults: valid, attributed, 1k-5k triangles", "[samples]") {

@@ -1,4 +1,4 @@
-// restitch/samples/builder.hpp - the flat-shaded mesh builder behind the sample models (internal).
+// restitch/families/builder.hpp - the flat-shaded mesh builder behind the sample models (internal).
 //
 // `detail::SampleMeshBuilder` appends planar patches (subdivided quads and
 // triangles, and boxes, prisms and square frusta made of them) to a mesh that

@@ -1,4 +1,4 @@
-// Tests for analysis.hpp: the whole analysis on the sample models (known
+// Tests for analyze.hpp (the driver) and analysis.hpp (its result): the whole analysis on the sample models (known
 // generators), on a model without repetition, and its contract (validation,
 // cancellation, determinism, timings, policy names).
 #include <catch2/catch.hpp>
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "restitch/analyze.hpp"
-#include "restitch/samples/samples.hpp"
+#include "restitch/families/families.hpp"
 
 #include "support/mesh_builders.hpp"
 
@@ -52,7 +52,7 @@ TEST_CASE("analysis recovers the generators of every sample family", "[analysis]
   const char* families[] = {"bookshelf", "facade", "facade_sheared", "fence", "pin_header"};
   for (const char* family : families) {
     DYNAMIC_SECTION(family) {
-      const Result<samples::SampleModel> sample = samples::generate(family);
+      const Result<families::SampleModel> sample = families::generate(family);
       REQUIRE(sample.ok());
       const auto t0 = std::chrono::steady_clock::now();
       const Result<Analysis> a = analyze(sample->mesh);
@@ -85,7 +85,7 @@ TEST_CASE("analysis recovers the generators of every sample family", "[analysis]
 }
 
 TEST_CASE("analysis on the pin header: lattice cells, timings, names, sparsity", "[analysis]") {
-  const Result<samples::SampleModel> sample = samples::generate("pin_header");
+  const Result<families::SampleModel> sample = families::generate("pin_header");
   REQUIRE(sample.ok());
   const Result<Analysis> a = analyze(sample->mesh);
   REQUIRE(a.ok());
@@ -131,7 +131,7 @@ TEST_CASE("analysis contract: bad input, options, cancellation, determinism, oth
   nan_mesh.V(0, 0) = NAN;
   CHECK(analyze(nan_mesh).status().code() == StatusCode::invalid_mesh);
 
-  const Result<samples::SampleModel> sample = samples::generate("pin_header");
+  const Result<families::SampleModel> sample = families::generate("pin_header");
   REQUIRE(sample.ok());
   AnalysisOptions<> options;
   options.dense_spacing = 0;
