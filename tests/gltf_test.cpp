@@ -110,6 +110,86 @@ TEST_CASE("gltf: node transforms are applied in world space, mirroring flips win
   CHECK((c1 - a).cross(c2 - a).z() > 0);
 }
 
+TEST_CASE("gltf: a mesh instanced by several nodes is placed once per node, each with its own transform", "[gltf]") {
+  // Mesh A (material 0, with tangents) is shown by three nodes, mesh B (material 1) by one in between:
+  // a translation, a mirror with translation as a matrix, and a rotation with non-uniform scale.
+  const double s = std::sqrt(0.5);
+  const std::vector<nlohmann::json> nodes = {
+      {{"translation", {1, 2, 3}}},
+      {{"translation", {5, 0, 0}}},
+      {{"matrix", {-2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 7, 0, 0, 1}}},
+      {{"rotation", {0, 0, s, s}}, {"scale", {3, 0.5, 2}}, {"translation", {0, -4, 0}}}};
+  const std::vector<int> mesh_of = {0, 1, 0, 0};
+  auto build = [&](const std::vector<int>& which) {
+    GltfBuilder b;
+    b.j["materials"] = {{{"name", "a"}}, {{"name", "b"}}};
+    const int a = restitch::test::add_quad_mesh(b, 4, true, 0);
+    const int bm = restitch::test::add_quad_mesh(b, 4, true, 1);
+    const std::vector<float> tan = {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, -1};
+    b.j["meshes"][a]["primitives"][0]["attributes"]["TANGENT"] = b.floats(tan, "VEC4", 4);
+    std::vector<nlohmann::json> chosen;
+    for (int k : which) {
+      nlohmann::json n = nodes[k];
+      n["mesh"] = mesh_of[k] == 0 ? a : bm;
+      chosen.push_back(n);
+    }
+    add_scene(b, chosen);
+    GltfLoadReport r;
+    auto m = load_text(b.gltf_text(), &r);
+    REQUIRE(m.ok());
+    return std::make_pair(*m, r);
+  };
+  const auto [all, report] = build({0, 1, 2, 3});
+  CHECK(report.primitives == 4);
+  CHECK(all.triangle_count() == 8);  // 3 x 2 for mesh A, 2 for mesh B
+  CHECK(all.vertex_count() == 16);
+  REQUIRE(all.groups.size() == 2);
+  CHECK(all.groups[0].material == 0);
+  CHECK(all.groups[0].name == "mesh 0 primitive 0, mesh 0 primitive 0, mesh 0 primitive 0");
+  CHECK(all.groups[1].material == 1);
+  CHECK(all.groups[0].attributes.tangents);
+  CHECK(all.FG.head(6).maxCoeff() == 0);
+  CHECK(all.FG.tail(2).minCoeff() == 1);
+
+  // Each instance equals, bit for bit, the same node loaded alone: group 0 holds
+  // nodes 0, 2, 3 (depth-first order), then group 1 holds node 1.
+  const std::vector<int> order = {0, 2, 3, 1};
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const Mesh one = build({order[i]}).first;
+    REQUIRE(one.vertex_count() == 4);
+    REQUIRE(one.triangle_count() == 2);
+    const Eigen::Index v0 = Eigen::Index(4 * i), f0 = Eigen::Index(2 * i);
+    CHECK(all.V.middleRows(v0, 4) == one.V);
+    CHECK(all.N.middleRows(v0, 4) == one.N);
+    CHECK(all.UV[0].middleRows(v0, 4) == one.UV[0]);
+    if (one.groups[0].attributes.tangents) CHECK(all.T.middleRows(v0, 4) == one.T);
+    const MatrixX3u shifted = (one.F.array() + std::uint32_t(v0)).matrix();
+    CHECK(all.F.middleRows(f0, 2) == shifted);
+  }
+
+  // And each instance is the quad under its own transform.
+  const std::vector<float> quad = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  const Eigen::Matrix3d rot = Eigen::Quaterniond(s, 0, 0, s).normalized().toRotationMatrix();
+  const std::vector<Eigen::Affine3d> xf = {
+      Eigen::Affine3d(Eigen::Translation3d(1, 2, 3)),
+      Eigen::Affine3d(Eigen::Translation3d(7, 0, 0) * Eigen::Scaling(-2.0, 1.0, 1.0)),
+      Eigen::Affine3d(Eigen::Translation3d(0, -4, 0) * rot * Eigen::Scaling(3.0, 0.5, 2.0)),
+      Eigen::Affine3d(Eigen::Translation3d(5, 0, 0))};
+  for (std::size_t i = 0; i < xf.size(); ++i)
+    for (int v = 0; v < 4; ++v) {
+      const Eigen::Vector3d want = xf[i] * Eigen::Vector3d(quad[3 * v], quad[3 * v + 1], quad[3 * v + 2]);
+      for (int c = 0; c < 3; ++c) CHECK(all.V(4 * i + v, c) == Approx(want[c]).margin(1e-6));
+    }
+  // The mirrored instance is wound back (faces +z like the others) and its tangents' w flipped.
+  for (Eigen::Index f = 0; f < all.F.rows(); ++f) {
+    const Eigen::Vector3f a = all.V.row(all.F(f, 0)), c1 = all.V.row(all.F(f, 1)), c2 = all.V.row(all.F(f, 2));
+    CHECK((c1 - a).cross(c2 - a).z() > 0);
+  }
+  CHECK(all.T(4, 3) == -1.0f);
+  CHECK(all.T(7, 3) == 1.0f);
+  CHECK(all.T(0, 3) == 1.0f);
+}
+
 TEST_CASE("gltf: strips, fans and non-indexed primitives become the same triangles", "[gltf]") {
   for (int mode : {5, 6}) {
     GltfBuilder b;

@@ -29,6 +29,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -43,6 +44,10 @@ using MatrixX3f = Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using MatrixX4f = Eigen::Matrix<float, Eigen::Dynamic, 4, Eigen::RowMajor>;
 using MatrixX3u = Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using VectorXu = Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 1>;
+
+/// The most texture-coordinate sets (TEXCOORD_0 .. TEXCOORD_7) a Mesh carries
+/// through restitch; the glTF reader refuses TEXCOORD_8 and beyond.
+inline constexpr std::size_t max_uv_sets = 8;
 
 /// A plain PBR material (glTF metallic-roughness).
 struct Material {
