@@ -119,12 +119,13 @@ test('analysis finds the bookshelf generators as principal offsets (model units)
   // Exactly the fields of `restitch analyze --json` (restitch/io/json_report.hpp).
   assert.deepEqual(Object.keys(a).sort(),
                    ['descriptor', 'dominant_offsets', 'dummy_directions', 'features', 'lattice_axes', 'lattice_cells',
-                    'lattice_origin', 'matcher', 'principal_offsets', 'scale', 'sparsity', 'timings_ms']);
+                    'lattice_origin', 'matcher', 'principal_offsets', 'resizable', 'scale', 'sparsity', 'timings_ms']);
   assert.equal(a.descriptor, 'shot');
   assert.equal(a.matcher, 'reduced');
-  // The principal offsets are the lattice's non-dummy axes, in order (what the retarget steps refer to).
+  // The principal offsets are the lattice's resizable (non-dummy) axes, in order (what the retarget steps refer to).
   const dummy = (c) => a.dummy_directions.some((d) => d.every((x, k) => x === a.lattice_axes[c][k]));
-  const real = [0, 1, 2].filter((c) => !dummy(c));
+  assert.deepEqual(a.resizable, [0, 1, 2].map((c) => !dummy(c)), 'resizable is false exactly on the dummy directions');
+  const real = [0, 1, 2].filter((c) => a.resizable[c]);
   assert.equal(real.length, a.principal_offsets.length);
   real.forEach((c, i) => assert.ok(a.principal_offsets[i].every((x, k) => near(x, a.lattice_axes[c][k], 1e-9))));
   assert.ok(near(a.scale, 2 / 1.62, 1e-6), `scale ${a.scale}`);
@@ -255,6 +256,7 @@ test('a model without repetition: no principal offsets, and a resize is refused 
     assert.equal(r.ok, true, r.message);
     assert.equal(r.analysis.principal_offsets.length, 0);
     assert.equal(r.analysis.dummy_directions.length, 3);
+    assert.deepEqual(r.analysis.resizable, [false, false, false]);
     const t = s.retarget(1, 0, 0, 'lattice');
     assert.equal(t.ok, false);
     assert.equal(t.code, 'no_repetition');

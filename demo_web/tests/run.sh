@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The web demo's tests: builds the WebAssembly module when missing or stale (build/web, Emscripten),
-# runs the node tests of the module (node --test) and the end-to-end test of the page in Debian's
-# Chromium (playwright-core), and ends with one line "N passed, M failed" over all checks.
+# runs the node tests (node --test: the module, and the page's state machine and worker client against
+# fakes) and the end-to-end test of the page in Debian's Chromium (playwright-core), and ends with one
+# line "N passed, M failed" over all checks.
 # Exits non-zero on any failure. Called by scripts/test.sh; runs alone too.
 set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -19,8 +20,9 @@ if ! bash "$here/build.sh"; then
   exit 1
 fi
 
-echo "--- web demo: node tests of the module"
-node --test --test-reporter=tap "$here/module.test.mjs" 2>&1 | tee "$log/node.tap"
+echo "--- web demo: node tests (the module, the session state machine, the worker client)"
+node --test --test-reporter=tap "$here/module.test.mjs" "$here/session.test.mjs" "$here/worker-client.test.mjs" 2>&1 |
+  tee "$log/node.tap"
 p=$(grep -E '^# pass [0-9]+' "$log/node.tap" | tail -1 | awk '{print $3}')
 f=$(grep -E '^# fail [0-9]+' "$log/node.tap" | tail -1 | awk '{print $3}')
 if [ -z "$p" ] || [ -z "$f" ]; then failed=$((failed + 1)); else passed=$((passed + p)); failed=$((failed + f)); fi

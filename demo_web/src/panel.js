@@ -1,0 +1,167 @@
+// panel.js - the page's 2D parts: the lil-gui controls, the step sliders, the figures table, progress and errors.
+//
+//   const panel = new Panel(settings, { figures, progress, progressLabel, progressFill, error });  // elements
+//   panel.build({ samples, policies }, handlers)   the Model / Analysis / Resize / View folders
+//   panel.buildSliders(analysis, model, onSteps)   one slider per principal offset; onSteps() on every move
+//   panel.refresh()                               shows `settings` again after it was changed in code
+//   panel.showFigures(state)                      the figures table of a Session's state (./session.js)
+//   panel.showProgress(stage, fraction) / panel.showError(message)   (null / '' hide them)
+// `settings` is the object the controls edit: sample, descriptor, matcher, labelSpace, view ('shaded' |
+// 'labels' | 'seams'), offsets, histogram (booleans), steps {v1, v2, v3}. handlers: sample(name), open(),
+// download(), policy() (descriptor or matcher changed), labelSpace(), view(), offsets(), histogram().
+// The slider names give the size each step count makes along its principal offset, in model units.
+import GUI from 'lil-gui';
+
+const STAGES = ['sampling', 'descriptors', 'matching', 'histogram', 'refinement', 'lattice'];
+
+export const fmt = (x, d = 3) => (Number.isFinite(x) ? Number(x.toPrecision(d)).toString() : '–');
+const vfmt = (v, d = 3) => v.map((x) => fmt(x, d)).join(' × ');
+const sizeOf = (info) => info.bbox_max.map((x, k) => x - info.bbox_min[k]);
+const norm = (v) => Math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);  // as THREE.Vector3.length()
+
+// A model-unit length with three decimals below the model's leading digit (so 7e-7 m on a 1.6 m model is 0.000).
+function lengthFormat(x, longest) {
+  const decimals = Math.min(8, Math.max(0, 3 - Math.floor(Math.log10(longest))));
+  const s = x.toFixed(decimals);
+  return /^-0\.?0*$/.test(s) ? s.slice(1) : s;
+}
+
+// The extent of a mesh along a direction (any length): the length of its shadow on that axis.
+function extentAlong(positions, v) {
+  const inv = 1 / (norm(v) || 1), d = v.map((x) => x * inv);  // as THREE.Vector3.normalize()
+  let lo = Infinity, hi = -Infinity;
+  for (let i = 0; i < positions.length; i += 3) {
+    const t = positions[i] * d[0] + positions[i + 1] * d[1] + positions[i + 2] * d[2];
+    if (t < lo) lo = t;
+    if (t > hi) hi = t;
+  }
+  return hi - lo;
+}
+
+// The rows [name, value] of the figures table.
+export function figureRows({ model: m, analysis: a, retarget: r, shown, analysisMs }) {
+  const rows = [];
+  if (m) {
+    rows.push(['model', `${m.name} (${m.units})`]);
+    rows.push(['triangles in', String(m.info.triangles)]);
+    rows.push(['triangles out', r ? String(r.result.report.output.triangles) : '–']);
+    if (shown) rows.push(['shown', `${shown.vertices} vertices, ${shown.triangles} triangles`]);
+    rows.push(['size in', `${vfmt(sizeOf(m.info))} ${m.units}`]);
+  }
+  if (a) {
+    const longest = Math.max(...sizeOf(m.info));
+    rows.push(['features', `${a.features}`]);
+    rows.push(['dominant offsets', `${a.dominant_offsets.length}`]);
+    a.principal_offsets.forEach((v, i) =>
+      rows.push([`v${i + 1}`, `(${v.map((x) => lengthFormat(x, longest)).join(', ')}) ${m.units}`]));
+    rows.push(['lattice cells', a.lattice_cells.join(' × ')]);
+    rows.push(['sparsity', `top7 ${fmt(a.sparsity.top7)}, top20 ${fmt(a.sparsity.top20)}`]);
+    rows.push(['analysis', `${fmt(analysisMs, 4)} ms in the worker`]);
+  }
+  if (r) {
+    const rep = r.result.report;
+    rows.push(['size out', `${vfmt(rep.size_out)} ${m.units}`]);
+    rows.push(['label space', `${rep.label_space}, ${rep.cells_out.join(' × ')} cells`]);
+    rows.push(['nodes', `${rep.nodes}`]);
+    rows.push(['labels', `${rep.labels}`]);
+    rows.push(['cycles', `${rep.cycles}, energy ${fmt(rep.energy, 4)}`]);
+    rows.push(['solve', `${fmt(rep.timings_ms.solve || 0, 3)} ms (energy ${fmt(rep.timings_ms.energy || 0, 3)} ms, ` +
+                        `stitch ${fmt(rep.timings_ms.stitch || 0, 3)} ms)`]);
+    rows.push(['resize', `${fmt(r.pageMs, 3)} ms in the page (${fmt(r.ms, 3)} ms in the worker)`]);
+  }
+  return rows;
+}
+
+export class Panel {
+  #sliders = [];
+  #sliderBase = { extents: [], lengths: [], units: 'm' };  // per principal offset, for the slider names
+  #sampleController = null;
+
+  constructor(settings, elements) {
+    this.settings = settings;
+    this.el = elements;
+    this.gui = new GUI({ title: 'restitch' });
+    this.modelFolder = this.gui.addFolder('Model');
+    this.analysisFolder = this.gui.addFolder('Analysis');
+    this.resizeFolder = this.gui.addFolder('Resize');
+    this.viewFolder = this.gui.addFolder('View');
+  }
+
+  build({ samples, policies }, on) {
+    const s = this.settings;
+    this.#sampleController = this.modelFolder.add(s, 'sample', samples).name('bundled sample').onChange(on.sample);
+    this.modelFolder.add({ open: on.open }, 'open').name('open .glb / .gltf…');
+    this.modelFolder.add({ download: on.download }, 'download').name('download .glb');
+    this.analysisFolder.add(s, 'descriptor', policies.descriptors).onChange(on.policy);
+    this.analysisFolder.add(s, 'matcher', policies.matchers).onChange(on.policy);
+    this.resizeFolder.add(s, 'labelSpace', policies.label_spaces).name('label space').onChange(on.labelSpace);
+    this.viewFolder.add(s, 'view', { shaded: 'shaded', 'cells by label': 'labels', seams: 'seams' }).onChange(on.view);
+    this.viewFolder.add(s, 'offsets').name('principal offsets').onChange(on.offsets);
+    this.viewFolder.add(s, 'histogram').name('offset histogram').onChange(on.histogram);
+  }
+
+  // The root panel's element (its width is an overlay the view centres around), or null before build().
+  get element() {
+    return this.gui.domElement;
+  }
+
+  // Slider i moves along principal offset v_i, the i-th resizable lattice axis (analysis.resizable, in the
+  // order of lattice_axes; restitch::lattice_steps_from_principal), from one cell left up to about twice the
+  // cells there are.
+  buildSliders(analysis, model, onSteps) {
+    for (const c of this.#sliders) c.destroy();
+    this.#sliders = [];
+    const steps = this.settings.steps;
+    steps.v1 = steps.v2 = steps.v3 = 0;
+    this.#sliderBase = {
+      extents: analysis.principal_offsets.map((v) => extentAlong(model.inputMesh.positions, v)),
+      lengths: analysis.principal_offsets.map(norm),
+      units: model.units,
+    };
+    const resizable = [0, 1, 2].filter((c) => analysis.resizable[c]);
+    analysis.principal_offsets.forEach((v, i) => {
+      const cells = analysis.lattice_cells[resizable[i]];
+      const c = this.resizeFolder.add(steps, `v${i + 1}`, 1 - cells, Math.min(24, Math.max(6, 2 * cells)), 1)
+                                 .onChange(() => { this.#nameSliders(); onSteps(); });
+      this.#sliders.push(c);
+    });
+    this.#nameSliders();
+  }
+
+  refresh() {
+    for (const c of this.gui.controllersRecursive()) c.updateDisplay();
+    this.#nameSliders();
+  }
+
+  #nameSliders() {
+    const { extents, lengths, units } = this.#sliderBase;
+    this.#sliders.forEach((c, i) => {
+      const k = this.settings.steps[`v${i + 1}`];
+      c.name(`v${i + 1} steps → ${fmt(extents[i] + k * lengths[i])} ${units}`);
+    });
+  }
+
+  showFigures(state) {
+    const table = document.createElement('table');
+    for (const [k, v] of figureRows(state)) {
+      const tr = table.insertRow();
+      tr.insertCell().textContent = k;
+      tr.insertCell().textContent = v;
+    }
+    this.el.figures.replaceChildren(table);
+  }
+
+  showProgress(stage, fraction) {
+    this.el.progress.hidden = stage === null;
+    if (stage === null) return;
+    const i = Math.max(0, STAGES.indexOf(stage));
+    const total = (i + Math.min(Math.max(fraction, 0), 1)) / STAGES.length;
+    this.el.progressLabel.textContent = `analysing: ${stage} ${Math.round(fraction * 100)}%`;
+    this.el.progressFill.style.width = `${(total * 100).toFixed(1)}%`;
+  }
+
+  showError(message) {
+    this.el.error.textContent = message;
+    this.el.error.hidden = !message;
+  }
+}

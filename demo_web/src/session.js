@@ -1,0 +1,250 @@
+// session.js - the demo's state machine: start, load a model, analyse it, resize it; no DOM, no three.js.
+//
+//   const session = new Session(client, { hooks, policy: () => ({ descriptor, matcher }) });
+//   await session.start();                     // the catalog: {samples, policies, version}, or null on failure
+//   await session.load({ sample: { name, params } });   // or { file: { name, bytes } }; analyses it too
+//   await session.resize([a, b, c], labelSpace);         // resolves once hooks.result has shown it
+//   session.reanalyze()        the policy changed      session.save() -> .glb bytes (the result, else the input)
+//   session.present() -> mesh  what the view shows     session.fail(message): the error state, from the app
+//
+// `client` is a WorkerClient (./worker-client.js) or a fake with the same request(type, payload, options) and
+// restart(). Status goes 'loading' -> 'analyzing' -> 'ready', or 'error' with `state.error` in words.
+//
+// Generations: every load and every re-analysis starts a new generation; an answer that arrives for an older
+// one (a model opened or analysed since) is dropped, and a load that finds the worker busy restarts it
+// (analysis cannot be interrupted), which cancels the running request.
+// Resizes are latest-wins: at most one retarget is in flight; a request made meanwhile waits as the next one
+// and a later request replaces it. The promise of a replaced request rejects with an Error whose
+// `.superseded` is true (unless the later request asks for the same steps: it then shares its result). A
+// failed resize rejects its promise with the worker's message and sets the error state; a new load or
+// analysis rejects the promises still pending.
+//
+// hooks (all optional; the app draws from them):
+//   status(status)            every status change (also recorded in `statusHistory`)
+//   error(message)            the error to show, '' to hide it
+//   loading(label)            a load began: label is the file's name or 'sample: NAME'
+//   materials(glb) -> promise what `model.materials` holds, from the loaded model's .glb bytes (default [])
+//   model(model)              the input model is loaded and shown (no analysis yet)
+//   progress(stage, fraction) analysis progress; progress(null) once the analysis has ended
+//   analysis(analysis)        the analysis is in (`state.analysis`, `state.extras`)
+//   result(retarget) -> promise   a resize result is in `state.retarget`; resolve once the view shows it
+//   timed(retarget)           its time from request to view, `retarget.pageMs`, is known
+//   redraw()                  a load or an analysis failed: the view should draw the state as it is now
+//
+// state: status, error, catalog [{name, units, ...}], policies {descriptors, matchers, label_spaces},
+//   model {name, units, info, inputMesh, materials} (info: the worker's load answer: bbox_min/max, triangles,
+//   warnings, ...), analysis (`restitch analyze --json` fields), extras (raw match offsets for the histogram),
+//   analysisMs, retarget {steps, labelSpace, result, mesh, ms, pageMs} (the result shown, null while the input
+//   is shown), shown {vertices, triangles} (of the mesh shown).
+
+const NO_REPETITION = 'No repetition found: restitch found no repeated part in this model, so there is nothing to ' +
+                      'resize along. Try a model with repeated parts (shelves, windows, fence pickets).';
+
+const noop = () => {};
+const defaultHooks = {
+  status: noop, error: noop, loading: noop, materials: async () => [], model: noop, progress: noop,
+  analysis: noop, result: noop, timed: noop, redraw: noop,
+};
+
+function countsOf(mesh) {
+  return { vertices: mesh.positions.length / 3, triangles: mesh.indices.length / 3 };
+}
+
+export class Session {
+  state = {
+    status: 'loading', error: '', catalog: [], policies: { descriptors: [], matchers: [], label_spaces: [] },
+    model: null, analysis: null, extras: null, analysisMs: 0, retarget: null, shown: null,
+  };
+  statusHistory = [];   // every status change, for automated checks
+  resizeTimings = [];   // ms from request to view, per resize shown
+  progressReports = 0;  // analysis progress reports shown
+
+  #client;
+  #hooks;
+  #policy;
+  #now;
+  #generation = 0;
+  #inFlight = null;     // the retarget job running: {steps, labelSpace, key, t0, waiters}
+  #next = null;         // the one waiting to run
+
+  constructor(client, { hooks = {}, policy = () => ({}), now = () => performance.now() } = {}) {
+    this.#client = client;
+    this.#hooks = { ...defaultHooks, ...hooks };
+    this.#policy = policy;
+    this.#now = now;
+  }
+
+  // Starts the worker and asks for the catalog; null (and the error state) when that fails.
+  async start() {
+    this.#setStatus('loading');
+    this.#client.restart();
+    try {
+      const msg = await this.#client.request('catalog');
+      this.state.catalog = msg.samples;
+      this.state.policies = msg.policies;
+      return msg;
+    } catch (e) {
+      this.fail(`restitch could not start: ${e.message}`);
+      return null;
+    }
+  }
+
+  // Loads a model ({file: {name, bytes}} or {sample: {name, params}}) and analyses it.
+  async load(what) {
+    const generation = ++this.#generation;
+    if (this.state.status === 'analyzing' || this.state.status === 'loading') this.#client.restart();
+    this.#clearError();
+    this.#setStatus('loading');
+    Object.assign(this.state, { analysis: null, extras: null, retarget: null });
+    this.#dropResizes('a new model was opened');
+    const label = what.file ? what.file.name : `sample: ${what.sample.name}`;
+    this.#hooks.loading(label);
+    try {
+      const transfer = what.file ? [what.file.bytes] : [];
+      const msg = await this.#client.request('load', what, { transfer });
+      if (generation !== this.#generation) return;
+      const materials = await this.#hooks.materials(msg.glb);
+      if (generation !== this.#generation) return;
+      const sample = what.sample && this.state.catalog.find((s) => s.name === what.sample.name);
+      this.state.model = { name: label, units: (sample && sample.units) || 'm', info: msg.info, inputMesh: msg.mesh,
+                           materials };
+      for (const w of msg.info.warnings || []) console.info(`restitch: ${w}`);
+      this.present();
+      this.#hooks.model(this.state.model);
+      await this.#analyze(generation);
+    } catch (e) {
+      if (e.cancelled || generation !== this.#generation) return;
+      this.fail(`Could not open ${label}: ${e.message}`);
+      this.#hooks.redraw();
+    }
+  }
+
+  // Analyses the loaded model again (the policy changed): a new generation, so answers about the previous
+  // analysis are dropped.
+  async reanalyze() {
+    const generation = ++this.#generation;
+    this.#dropResizes('the model is being analysed again');
+    await this.#analyze(generation);
+  }
+
+  // Asks for the model resized by `steps` along the principal offsets; see the header for the queue.
+  // Resolves with {vertices, triangles, steps, ms} once the view shows it.
+  resize(steps, labelSpace) {
+    const key = `${steps.join(',')}|${labelSpace}`;
+    const job = { steps: steps.slice(), labelSpace, key, t0: this.#now(), waiters: [] };
+    const promise = new Promise((resolve, reject) => job.waiters.push({ resolve, reject }));
+    const replaced = this.#next;
+    if (replaced && replaced.key === key) job.waiters.unshift(...replaced.waiters);
+    else if (replaced) {
+      const superseded = () => Object.assign(new Error('superseded by a later resize request'), { superseded: true });
+      for (const w of replaced.waiters) w.reject(superseded());
+    }
+    this.#next = job;
+    this.#pump();
+    return promise;
+  }
+
+  // The .glb bytes of the result shown, else of the input.
+  async save() {
+    const msg = await this.#client.request('save', { which: this.state.retarget ? 'result' : 'input' });
+    return msg.bytes;
+  }
+
+  // The mesh the view shows: the resize result if there is one, else the input (null without a model).
+  // Records its counts as `state.shown`.
+  present() {
+    const { model, retarget } = this.state;
+    if (!model) return null;
+    const mesh = retarget ? retarget.mesh : model.inputMesh;
+    this.state.shown = countsOf(mesh);
+    return mesh;
+  }
+
+  // Shows `message` as the error and enters the error state.
+  fail(message) {
+    this.state.error = message;
+    this.#hooks.error(message);
+    this.#setStatus('error');
+  }
+
+  #setStatus(s) {
+    if (s !== this.state.status || !this.statusHistory.length) this.statusHistory.push(s);
+    this.state.status = s;
+    this.#hooks.status(s);
+  }
+
+  #clearError() {
+    this.state.error = '';
+    this.#hooks.error('');
+  }
+
+  #progress(stage, fraction) {
+    ++this.progressReports;
+    this.#hooks.progress(stage, fraction);
+  }
+
+  async #analyze(generation) {
+    this.#setStatus('analyzing');
+    this.#clearError();
+    Object.assign(this.state, { retarget: null, analysis: null, extras: null });
+    this.#progress('sampling', 0);
+    try {
+      const { descriptor, matcher } = this.#policy();
+      const msg = await this.#client.request('analyze', { descriptor, matcher },
+                                             { onProgress: (stage, f) => this.#progress(stage, f) });
+      if (generation !== this.#generation) return;
+      this.#hooks.progress(null);
+      Object.assign(this.state, { analysis: msg.analysis, extras: msg.extras, analysisMs: msg.ms });
+      this.present();
+      this.#hooks.analysis(msg.analysis);
+      if (msg.analysis.principal_offsets.length === 0) return this.fail(NO_REPETITION);
+      this.#setStatus('ready');
+    } catch (e) {
+      if (e.cancelled || generation !== this.#generation) return;
+      this.#hooks.progress(null);
+      this.fail(`Analysis failed: ${e.message}`);
+      this.#hooks.redraw();
+    }
+  }
+
+  // Forgets the queued and the running resize (their answers will be stale) and rejects their promises.
+  #dropResizes(message) {
+    for (const job of [this.#inFlight, this.#next]) if (job) for (const w of job.waiters) w.reject(new Error(message));
+    this.#inFlight = this.#next = null;
+  }
+
+  async #pump() {
+    if (this.#inFlight || !this.#next || !this.state.analysis) return;
+    const job = this.#next;
+    this.#next = null;
+    this.#inFlight = job;
+    const generation = this.#generation;
+    try {
+      const msg = await this.#client.request('retarget', { steps: job.steps, labelSpace: job.labelSpace });
+      if (generation !== this.#generation) return;
+      const retarget = { steps: job.steps, labelSpace: job.labelSpace, result: msg.result, mesh: msg.mesh, ms: msg.ms,
+                         pageMs: null };
+      this.state.retarget = retarget;
+      this.present();
+      await this.#hooks.result(retarget);
+      if (generation !== this.#generation) return;
+      retarget.pageMs = this.#now() - job.t0;
+      this.resizeTimings.push(retarget.pageMs);
+      this.#hooks.timed(retarget);
+      if (this.state.status === 'error' && this.state.analysis.principal_offsets.length) {
+        this.#clearError();
+        this.#setStatus('ready');
+      }
+      for (const w of job.waiters) w.resolve({ ...this.state.shown, steps: job.steps, ms: retarget.pageMs });
+    } catch (e) {
+      if (e.cancelled || generation !== this.#generation) return;
+      this.fail(`Resize failed: ${e.message}`);
+      for (const w of job.waiters) w.reject(new Error(e.message));
+    } finally {
+      if (generation === this.#generation) {
+        this.#inFlight = null;
+        this.#pump();
+      }
+    }
+  }
+}

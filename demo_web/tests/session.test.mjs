@@ -1,0 +1,305 @@
+// Node tests of the page's state machine (src/session.js) against a fake worker client whose answers the tests
+// give by hand, in any order: latest-wins resizing, stale load and analysis answers dropped, worker errors
+// shown as the error state. No WebAssembly, no browser.
+// Run: node --test demo_web/tests/session.test.mjs (tests/run.sh runs it with the other node tests).
+import test from 'node:test';
+import assert from 'node:assert/strict';
+import { Session } from '../src/session.js';
+import { cancelledError } from '../src/worker-client.js';
+
+// Lets the session react to an answer: its promise callbacks and the fake view's (a macrotask, as a frame is).
+async function flush() {
+  for (let i = 0; i < 10; ++i) await new Promise((resolve) => setImmediate(resolve));
+}
+
+// A worker client whose requests wait until the test answers them.
+class FakeClient {
+  requests = [];   // {type, payload, options, resolve, reject, settled}
+  restarts = 0;
+  cancelOnRestart = true;  // a real restart cancels what was pending; false: the old answers still arrive
+
+  restart() {
+    ++this.restarts;
+    if (!this.cancelOnRestart) return;
+    for (const r of this.open()) this.#settle(r, 'reject', cancelledError());
+  }
+
+  request(type, payload = {}, options = {}) {
+    return new Promise((resolve, reject) => {
+      this.requests.push({ type, payload, options, resolve, reject, settled: false });
+    });
+  }
+
+  open(type) { return this.requests.filter((r) => !r.settled && (!type || r.type === type)); }
+  sent(type) { return this.requests.filter((r) => r.type === type); }
+
+  // Answers the oldest open request of `type` (or the request given) and lets the session react.
+  async answer(which, msg) {
+    this.#settle(this.#pick(which), 'resolve', msg);
+    await flush();
+  }
+
+  async fail(which, message, code = 'internal') {
+    this.#settle(this.#pick(which), 'reject', Object.assign(new Error(message), { code }));
+    await flush();
+  }
+
+  #pick(which) {
+    const r = typeof which === 'string' ? this.open(which)[0] : which;
+    assert.ok(r && !r.settled, `no open ${typeof which === 'string' ? which : 'such'} request`);
+    return r;
+  }
+
+  #settle(r, how, value) {
+    r.settled = true;
+    r[how](value);
+  }
+}
+
+const meshOf = (triangles) => ({ positions: new Float32Array(9 * triangles), indices: new Uint32Array(3 * triangles),
+                                 groups: [] });
+const loaded = (triangles = 4) => ({ type: 'loaded', info: { triangles, bbox_min: [0, 0, 0], bbox_max: [1, 1, 1],
+                                                             warnings: [] }, mesh: meshOf(triangles), glb: null });
+const analysed = (offsets = [[0.4, 0, 0]]) => ({
+  type: 'analyzed', ms: 12,
+  analysis: { principal_offsets: offsets, resizable: [true, false, false], lattice_cells: [4, 1, 1] },
+  extras: { match_offsets: new Float32Array(0), dominant_normalized: [] },
+});
+const retargeted = (steps, triangles) => ({ type: 'retargeted', steps, ms: 3, mesh: meshOf(triangles),
+                                             result: { report: { steps_principal: steps.slice(0, 1) } } });
+
+// A session whose hooks record what they were told, plus its fake client.
+function makeSession() {
+  const client = new FakeClient();
+  const calls = [];
+  const record = (name) => (...args) => { calls.push([name, ...args]); };
+  const hooks = Object.fromEntries(['status', 'error', 'loading', 'model', 'progress', 'analysis', 'timed', 'redraw']
+    .map((name) => [name, record(name)]));
+  hooks.result = async (retarget) => {
+    calls.push(['result', retarget.steps]);
+    await new Promise((resolve) => setImmediate(resolve));  // the page waits for a frame here
+  };
+  let t = 0;
+  const session = new Session(client, { hooks, policy: () => ({ descriptor: 'shot', matcher: 'reduced' }), now: () => (t += 5) });
+  return { session, client, calls, named: (name) => calls.filter((c) => c[0] === name) };
+}
+
+// Loads a sample and answers until the session is ready.
+async function readySession() {
+  const s = makeSession();
+  s.session.load({ sample: { name: 'bookshelf', params: {} } });
+  await s.client.answer('load', loaded());
+  await s.client.answer('analyze', analysed());
+  assert.equal(s.session.state.status, 'ready');
+  return s;
+}
+
+// Watches a promise from the start (so a rejection is handled): {state: 'pending' | 'fulfilled' | 'rejected', value}.
+function watch(promise) {
+  const w = { state: 'pending', value: undefined };
+  promise.then((value) => Object.assign(w, { state: 'fulfilled', value }),
+               (value) => Object.assign(w, { state: 'rejected', value }));
+  return w;
+}
+
+// What a promise has resolved with once the session is idle; fails (rather than hangs) while it is pending.
+async function resolved(promise) {
+  const w = watch(promise);
+  await flush();
+  if (w.state === 'rejected') throw w.value;
+  assert.equal(w.state, 'fulfilled', 'the promise is still pending');
+  return w.value;
+}
+
+test('a load goes loading -> analyzing -> ready, with the policy and the progress passed on', async () => {
+  const { session, client, named } = makeSession();
+  const done = session.load({ sample: { name: 'bookshelf', params: {} } });
+  assert.equal(session.state.status, 'loading');
+  assert.deepEqual(named('loading'), [['loading', 'sample: bookshelf']]);
+  await client.answer('load', loaded(4));
+  assert.equal(session.state.status, 'analyzing');
+  assert.deepEqual(session.state.shown, { vertices: 12, triangles: 4 });
+  const req = client.open('analyze')[0];
+  assert.deepEqual(req.payload, { descriptor: 'shot', matcher: 'reduced' });
+  req.options.onProgress('matching', 0.5);
+  assert.deepEqual(named('progress').at(-1), ['progress', 'matching', 0.5]);
+  await client.answer(req, analysed());
+  await resolved(done);
+  assert.equal(session.state.status, 'ready');
+  assert.deepEqual(session.statusHistory, ['loading', 'analyzing', 'ready']);
+  assert.equal(session.progressReports, 2, 'the first (sampling, 0) and the one from the worker');
+  assert.deepEqual(named('progress').at(-1), ['progress', null], 'the progress bar is hidden at the end');
+  assert.equal(session.state.analysisMs, 12);
+});
+
+test('latest wins: of three rapid resizes the first runs, the middle is superseded, the last runs', async () => {
+  const { session, client, named } = await readySession();
+  const first = watch(session.resize([1, 0, 0], 'lattice'));
+  const middle = watch(session.resize([2, 0, 0], 'lattice'));
+  const last = session.resize([3, 0, 0], 'lattice');
+  await flush();
+  assert.deepEqual(client.sent('retarget').map((r) => r.payload.steps), [[1, 0, 0]], 'one retarget in flight at a time');
+  assert.equal(middle.state, 'rejected', 'the middle one settles as soon as the last replaces it');
+  assert.equal(middle.value.superseded, true, middle.value.message);
+  assert.equal(first.state, 'pending');
+
+  await client.answer('retarget', retargeted([1, 0, 0], 10));
+  assert.equal(first.state, 'fulfilled');
+  assert.deepEqual(first.value, { vertices: 30, triangles: 10, steps: [1, 0, 0], ms: first.value.ms });
+  assert.ok(first.value.ms > 0);
+  assert.deepEqual(client.sent('retarget').map((r) => r.payload.steps), [[1, 0, 0], [3, 0, 0]],
+                   'the middle request never reaches the worker; the last follows the first');
+
+  await client.answer('retarget', retargeted([3, 0, 0], 16));
+  const shown = await resolved(last);
+  assert.deepEqual(shown, { vertices: 48, triangles: 16, steps: [3, 0, 0], ms: shown.ms });
+  assert.deepEqual(session.state.retarget.steps, [3, 0, 0]);
+  assert.deepEqual(session.state.shown, { vertices: 48, triangles: 16 });
+  assert.deepEqual(named('result').map((c) => c[1]), [[1, 0, 0], [3, 0, 0]], 'the view was given the first and the last');
+  assert.equal(session.resizeTimings.length, 2);
+  assert.equal(client.sent('retarget').length, 2);
+  assert.equal(session.state.status, 'ready');
+});
+
+test('a repeated request for the queued steps runs once and settles both promises', async () => {
+  const { session, client } = await readySession();
+  session.resize([1, 0, 0], 'lattice');
+  const p1 = session.resize([2, 0, 0], 'lattice');
+  const p2 = session.resize([2, 0, 0], 'lattice');
+  await client.answer('retarget', retargeted([1, 0, 0], 10));
+  await client.answer('retarget', retargeted([2, 0, 0], 12));
+  assert.equal((await resolved(p1)).triangles, 12);
+  assert.equal((await resolved(p2)).triangles, 12);
+  assert.equal(client.sent('retarget').length, 2);
+});
+
+test('a stale load answer is ignored after a newer load, whichever arrives first', async () => {
+  for (const staleFirst of [true, false]) {
+    const { session, client, named } = makeSession();
+    client.cancelOnRestart = false;  // the old answer arrives anyway
+    session.load({ sample: { name: 'fence', params: {} } });
+    const [oldLoad] = client.open('load');
+    const restarts = client.restarts;
+    session.load({ file: { name: 'new.glb', bytes: new ArrayBuffer(8) } });
+    assert.equal(client.restarts, restarts + 1, 'a load while loading restarts the worker');
+    const [, newLoad] = client.open('load');
+    assert.deepEqual(newLoad.options.transfer, [newLoad.payload.file.bytes], 'the file bytes are transferred');
+    if (staleFirst) await client.answer(oldLoad, loaded(7));
+    await client.answer(newLoad, loaded(4));
+    if (!staleFirst) await client.answer(oldLoad, loaded(7));
+    assert.equal(session.state.model.name, 'new.glb');
+    assert.equal(session.state.model.info.triangles, 4);
+    assert.deepEqual(named('model').map((c) => c[1].name), ['new.glb'], 'only the newer model was shown');
+    assert.equal(client.sent('analyze').length, 1, 'only the newer model is analysed');
+    await client.answer('analyze', analysed());
+    assert.equal(session.state.status, 'ready');
+    assert.equal(session.state.model.name, 'new.glb');
+  }
+});
+
+test('a cancelled load (worker restarted) neither errors nor changes the state', async () => {
+  const { session, client } = makeSession();
+  const old = session.load({ sample: { name: 'fence', params: {} } });
+  session.load({ sample: { name: 'bookshelf', params: {} } });
+  await resolved(old);
+  assert.equal(session.state.error, '');
+  assert.equal(session.state.status, 'loading');
+  await client.answer('load', loaded());
+  await client.answer('analyze', analysed());
+  assert.equal(session.state.model.name, 'sample: bookshelf');
+  assert.equal(session.state.status, 'ready');
+});
+
+test('a stale analysis answer is dropped after a re-analysis', async () => {
+  const { session, client, named } = makeSession();
+  session.load({ sample: { name: 'bookshelf', params: {} } });
+  await client.answer('load', loaded());
+  const [oldAnalysis] = client.open('analyze');
+  session.reanalyze();
+  await client.answer(oldAnalysis, analysed([[9, 9, 9]]));
+  assert.equal(session.state.analysis, null, 'the old analysis is not taken');
+  assert.equal(session.state.status, 'analyzing');
+  assert.equal(named('analysis').length, 0);
+  await client.answer('analyze', analysed([[0.4, 0, 0]]));
+  assert.deepEqual(session.state.analysis.principal_offsets, [[0.4, 0, 0]]);
+  assert.equal(session.state.status, 'ready');
+});
+
+test('a new load rejects the pending resizes and drops the answer of the one in flight', async () => {
+  const { session, client, named } = await readySession();
+  const running = watch(session.resize([1, 0, 0], 'lattice'));
+  const queued = watch(session.resize([2, 0, 0], 'lattice'));
+  session.load({ sample: { name: 'fence', params: {} } });
+  await flush();
+  assert.equal(running.state, 'rejected');
+  assert.match(running.value.message, /new model/);
+  assert.equal(queued.state, 'rejected');
+  assert.match(queued.value.message, /new model/);
+  await client.answer('retarget', retargeted([1, 0, 0], 10));
+  assert.equal(session.state.retarget, null, 'the old model\'s result is not shown');
+  assert.equal(named('result').length, 0);
+  assert.equal(client.sent('retarget').length, 1);
+});
+
+test('a worker error during a resize is shown as the error state, and a later resize recovers', async () => {
+  const { session, client, named } = await readySession();
+  const p = watch(session.resize([1, 0, 0], 'lattice'));
+  await client.fail('retarget', 'the shelf cannot shrink that far', 'invalid_argument');
+  assert.equal(p.state, 'rejected');
+  assert.equal(p.value.message, 'the shelf cannot shrink that far');
+  assert.equal(session.state.status, 'error');
+  assert.equal(session.state.error, 'Resize failed: the shelf cannot shrink that far');
+  assert.deepEqual(named('error').at(-1), ['error', 'Resize failed: the shelf cannot shrink that far']);
+  const next = session.resize([2, 0, 0], 'lattice');
+  assert.equal(client.open('retarget').length, 1, 'the queue goes on after a failure');
+  await client.answer('retarget', retargeted([2, 0, 0], 12));
+  assert.equal((await resolved(next)).triangles, 12);
+  assert.equal(session.state.status, 'ready');
+  assert.equal(session.state.error, '');
+});
+
+test('worker errors while loading or analysing are shown in words', async () => {
+  {
+    const { session, client, named } = makeSession();
+    const done = session.load({ sample: { name: 'bookshelf', params: {} } });
+    await client.fail('load', 'not a glTF file');
+    await resolved(done);
+    assert.equal(session.state.status, 'error');
+    assert.equal(session.state.error, 'Could not open sample: bookshelf: not a glTF file');
+    assert.equal(named('redraw').length, 1);
+  }
+  {
+    const { session, client, named } = makeSession();
+    session.load({ sample: { name: 'bookshelf', params: {} } });
+    await client.answer('load', loaded());
+    await client.fail('analyze', 'out of memory');
+    assert.equal(session.state.status, 'error');
+    assert.equal(session.state.error, 'Analysis failed: out of memory');
+    assert.deepEqual(named('progress').at(-1), ['progress', null]);
+    assert.deepEqual(session.statusHistory, ['loading', 'analyzing', 'error']);
+  }
+  {
+    const { session, client } = makeSession();
+    session.load({ sample: { name: 'bookshelf', params: {} } });
+    await client.answer('load', loaded());
+    await client.answer('analyze', analysed([]));
+    assert.equal(session.state.status, 'error');
+    assert.match(session.state.error, /^No repetition found/);
+  }
+});
+
+test('start asks for the catalog; a failure is the error state', async () => {
+  const { session, client } = makeSession();
+  const started = session.start();
+  assert.equal(client.restarts, 1, 'start creates the worker');
+  await client.answer('catalog', { samples: [{ name: 'bookshelf', units: 'm' }], policies: { descriptors: ['shot'] } });
+  assert.equal((await resolved(started)).samples[0].name, 'bookshelf');
+  assert.deepEqual(session.state.catalog, [{ name: 'bookshelf', units: 'm' }]);
+
+  const other = makeSession();
+  const failed = other.session.start();
+  await other.client.fail('catalog', 'the WebAssembly module did not load');
+  assert.equal(await resolved(failed), null);
+  assert.equal(other.session.state.status, 'error');
+  assert.match(other.session.state.error, /could not start: the WebAssembly module did not load/);
+});

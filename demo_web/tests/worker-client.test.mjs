@@ -1,0 +1,90 @@
+// Node tests of the page's worker client (src/worker-client.js) with a fake Worker: ids matched to answers,
+// progress, errors with their code, transfer lists, and restarts cancelling what was pending.
+// Run: node --test demo_web/tests/worker-client.test.mjs (tests/run.sh runs it with the other node tests).
+import test from 'node:test';
+import assert from 'node:assert/strict';
+import { WorkerClient } from '../src/worker-client.js';
+
+class FakeWorker {
+  posted = [];  // [message, transfer]
+  terminated = false;
+  postMessage(message, transfer) { this.posted.push([message, transfer]); }
+  terminate() { this.terminated = true; }
+  reply(data) { this.onmessage({ data }); }
+}
+
+function makeClient() {
+  const workers = [];
+  const client = new WorkerClient(() => { const w = new FakeWorker(); workers.push(w); return w; });
+  client.restart();
+  return { client, workers, worker: () => workers.at(-1) };
+}
+
+const state = async (promise) => {
+  let out = 'pending';
+  promise.then((v) => { out = ['fulfilled', v]; }, (e) => { out = ['rejected', e]; });
+  await new Promise((r) => setImmediate(r));
+  return out;
+};
+
+test('requests carry ids and their payload; answers resolve the request with their id, in any order', async () => {
+  const { client, worker } = makeClient();
+  const bytes = new ArrayBuffer(4);
+  const a = client.request('load', { file: { name: 'a.glb', bytes } }, { transfer: [bytes] });
+  const b = client.request('catalog');
+  const [[ma, ta], [mb, tb]] = worker().posted;
+  assert.equal(ma.type, 'load');
+  assert.equal(ma.file.name, 'a.glb');
+  assert.deepEqual(ta, [bytes], 'the transfer list is handed to postMessage');
+  assert.deepEqual(tb, []);
+  assert.notEqual(ma.id, mb.id);
+  worker().reply({ type: 'catalog', id: mb.id, samples: [] });
+  assert.equal(await state(a), 'pending');
+  assert.deepEqual((await b).samples, []);
+  worker().reply({ type: 'loaded', id: ma.id, info: { triangles: 4 } });
+  assert.equal((await a).info.triangles, 4);
+});
+
+test('progress goes to onProgress and leaves the request pending; an error answer rejects with its code', async () => {
+  const { client, worker } = makeClient();
+  const seen = [];
+  const p = client.request('analyze', {}, { onProgress: (stage, f) => seen.push([stage, f]) });
+  const { id } = worker().posted[0][0];
+  worker().reply({ type: 'progress', id, stage: 'matching', fraction: 0.25 });
+  worker().reply({ type: 'progress', id: id + 100, stage: 'lattice', fraction: 1 });  // someone else's: ignored
+  assert.deepEqual(seen, [['matching', 0.25]]);
+  assert.equal(await state(p), 'pending');
+  worker().reply({ type: 'error', id, code: 'no_repetition', message: 'nothing repeats' });
+  const r = await state(p);
+  assert.equal(r[0], 'rejected');
+  assert.equal(r[1].message, 'nothing repeats');
+  assert.equal(r[1].code, 'no_repetition');
+});
+
+test('restart terminates the worker, cancels what was pending and sends later requests to the new one', async () => {
+  const { client, workers, worker } = makeClient();
+  const p = client.request('analyze');
+  client.restart();
+  assert.equal(workers.length, 2);
+  assert.equal(workers[0].terminated, true);
+  const r = await state(p);
+  assert.equal(r[0], 'rejected');
+  assert.equal(r[1].cancelled, true);
+  const q = client.request('catalog');
+  assert.equal(workers[0].posted.length, 1);
+  assert.equal(worker().posted.length, 1);
+  worker().reply({ type: 'catalog', id: worker().posted[0][0].id });
+  assert.equal((await q).type, 'catalog');
+});
+
+test('a worker that fails to start rejects what was pending with code internal', async () => {
+  const { client, worker } = makeClient();
+  const p = client.request('catalog');
+  let prevented = false;
+  worker().onerror({ message: 'SyntaxError in worker.js', preventDefault: () => { prevented = true; } });
+  const r = await state(p);
+  assert.equal(r[0], 'rejected');
+  assert.equal(r[1].code, 'internal');
+  assert.match(r[1].message, /failed to start \(SyntaxError in worker\.js\)/);
+  assert.ok(prevented);
+});
