@@ -46,7 +46,8 @@ using MatrixX3u = Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 3, Eigen::RowMajo
 using VectorXu = Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 1>;
 
 /// The most texture-coordinate sets (TEXCOORD_0 .. TEXCOORD_7) a Mesh carries
-/// through restitch; the glTF reader refuses TEXCOORD_8 and beyond.
+/// through restitch; the glTF reader refuses TEXCOORD_8 and beyond, the
+/// stitcher a mesh with more sets.
 inline constexpr std::size_t max_uv_sets = 8;
 
 /// A plain PBR material (glTF metallic-roughness).
@@ -59,10 +60,6 @@ struct Material {
 };
 
 /// Which optional per-vertex channels a group carries.
-/// The most texture-coordinate sets (TEXCOORD_n) a Mesh carries through restitch:
-/// the glTF reader keeps at most this many, the stitcher refuses more.
-inline constexpr std::size_t max_uv_sets = 8;
-
 struct AttributeSet {
   bool normals = false;
   bool tangents = false;
