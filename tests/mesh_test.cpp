@@ -133,6 +133,32 @@ TEST_CASE("validate: every vertex channel has one entry per vertex or none", "[m
   CHECK(bad([](Mesh& m) { m.UV.push_back(restitch::MatrixX2f::Zero(4, 2)); }) == StatusCode::ok);
 }
 
+TEST_CASE("validate: a group may not claim a channel the mesh lacks, nor a material below -1", "[mesh]") {
+  auto with_group = [](auto&& set) {
+    Mesh m = good_mesh();
+    set(m.groups[0].attributes);
+    return code_of(m);
+  };
+  using restitch::AttributeSet;
+  CHECK(with_group([](AttributeSet& a) { a.normals = true, a.tangents = true, a.uv_sets = 2, a.color_components = 4; }) ==
+        StatusCode::ok);
+  auto stripped = [](auto&& set) {  // the channels removed, the claim kept
+    Mesh m = good_mesh();
+    m.N.resize(0, 3), m.T.resize(0, 4), m.C.resize(0, 4), m.UV.clear();
+    set(m.groups[1].attributes);
+    return code_of(m);
+  };
+  CHECK(stripped([](AttributeSet&) {}) == StatusCode::ok);
+  CHECK(stripped([](AttributeSet& a) { a.normals = true; }) == StatusCode::invalid_mesh);
+  CHECK(stripped([](AttributeSet& a) { a.tangents = true; }) == StatusCode::invalid_mesh);
+  CHECK(stripped([](AttributeSet& a) { a.uv_sets = 1; }) == StatusCode::invalid_mesh);
+  CHECK(stripped([](AttributeSet& a) { a.color_components = 3; }) == StatusCode::invalid_mesh);
+  CHECK(with_group([](AttributeSet& a) { a.uv_sets = 3; }) == StatusCode::invalid_mesh);  // the mesh has 2
+  Mesh m = good_mesh();
+  m.groups[1].material = -2;
+  CHECK(code_of(m) == StatusCode::invalid_mesh);
+}
+
 TEST_CASE("validate: a mesh of degenerate triangles only has no area and is invalid_mesh", "[mesh]") {
   Mesh m = good_mesh();
   m.V.row(2) << 0.5f, 0, 0;  // collinear with 0 and 1

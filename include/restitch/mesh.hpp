@@ -146,9 +146,15 @@ inline Status validate(const Mesh& m) {
     return error(StatusCode::invalid_mesh, "the face-group list does not have one entry per triangle");
   if (m.groups.empty() || (m.FG.size() && m.FG.maxCoeff() >= m.groups.size()))
     return error(StatusCode::invalid_mesh, "a triangle refers to a group that does not exist");
-  for (const Group& g : m.groups)
-    if (g.material >= static_cast<int>(m.materials.size()))
+  for (const Group& g : m.groups) {
+    if (g.material < -1 || g.material >= static_cast<int>(m.materials.size()))
       return error(StatusCode::invalid_mesh, "group '" + g.name + "' refers to a material that does not exist");
+    const AttributeSet& at = g.attributes;
+    if ((at.normals && m.N.rows() == 0) || (at.tangents && m.T.rows() == 0) || (at.color_components > 0 && m.C.rows() == 0) ||
+        at.uv_sets < 0 || at.uv_sets > static_cast<int>(m.UV.size()) || at.color_components < 0 || at.color_components > 4)
+      return error(StatusCode::invalid_mesh,
+                   "group '" + g.name + "' carries a vertex channel (normals, tangents, UVs or colours) the mesh does not have");
+  }
   auto sized = [nv](Eigen::Index rows) { return rows == 0 || rows == nv; };
   bool uv_ok = true;
   for (const auto& uv : m.UV) uv_ok = uv_ok && uv.rows() == nv;

@@ -46,49 +46,37 @@ inline std::string sniff_mime(const std::vector<unsigned char>& b) {
   return "";
 }
 
+// A value of type T stored (unaligned, little-endian as the host) at `p`.
+template <class T>
+T load_unaligned(const unsigned char* p) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
 // One component at `p` as a double; normalized integers per the glTF spec.
 inline double decode_component(const unsigned char* p, int comp_type, bool normalized) {
   switch (comp_type) {
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
-      float f;
-      std::memcpy(&f, p, 4);
-      return f;
-    }
-    case TINYGLTF_COMPONENT_TYPE_DOUBLE: {
-      double d;
-      std::memcpy(&d, p, 8);
-      return d;
-    }
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return load_unaligned<float>(p);
+    case TINYGLTF_COMPONENT_TYPE_DOUBLE: return load_unaligned<double>(p);
     case TINYGLTF_COMPONENT_TYPE_BYTE: {
-      std::int8_t v;
-      std::memcpy(&v, p, 1);
+      const double v = load_unaligned<std::int8_t>(p);
       return normalized ? std::max(v / 127.0, -1.0) : v;
     }
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
-      std::uint8_t v;
-      std::memcpy(&v, p, 1);
+      const double v = load_unaligned<std::uint8_t>(p);
       return normalized ? v / 255.0 : v;
     }
     case TINYGLTF_COMPONENT_TYPE_SHORT: {
-      std::int16_t v;
-      std::memcpy(&v, p, 2);
+      const double v = load_unaligned<std::int16_t>(p);
       return normalized ? std::max(v / 32767.0, -1.0) : v;
     }
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-      std::uint16_t v;
-      std::memcpy(&v, p, 2);
+      const double v = load_unaligned<std::uint16_t>(p);
       return normalized ? v / 65535.0 : v;
     }
-    case TINYGLTF_COMPONENT_TYPE_INT: {
-      std::int32_t v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
-      std::uint32_t v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
+    case TINYGLTF_COMPONENT_TYPE_INT: return load_unaligned<std::int32_t>(p);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return load_unaligned<std::uint32_t>(p);
   }
   return 0.0;
 }
