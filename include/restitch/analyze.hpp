@@ -14,8 +14,11 @@
 //   5. histogram,     the offset detector (policy, default the paper's
 //      refinement     histogram + NMS + ICP + significance test; the mesh
 //                     vertices serve as exact ICP anchors)
-//   6. lattice        significant dominant offsets reduced to fundamentals
-//                     (an offset that is k >= 2 times a shorter one becomes
+//   6. lattice        each significant dominant offset replaced by its
+//                     fundamental period when it is k >= 2 periods long
+//                     (tested on the geometry: offsets/fundamental.hpp), then
+//                     reduced to fundamentals among themselves (an offset
+//                     that is k >= 2 times a shorter one of the list becomes
 //                     that one), greedy principal offsets, dummy directions,
 //                     grid phase, input cells (offsets/principal.hpp,
 //                     lattice/fit.hpp)
@@ -59,6 +62,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -76,6 +80,7 @@
 #include "restitch/mesh.hpp"
 #include "restitch/normalization.hpp"
 #include "restitch/offsets/detector.hpp"
+#include "restitch/offsets/fundamental.hpp"
 #include "restitch/offsets/histogram.hpp"
 #include "restitch/offsets/principal.hpp"
 #include "restitch/offsets/snap.hpp"
@@ -153,6 +158,10 @@ struct AnalysisOptions {
   /// so exactly copied geometry gives exact offsets; kept only where supported.
   bool snap_to_vertices = true;
   SnapOptions snap{};
+  /// Replace each significant dominant offset that is k >= 2 periods long by
+  /// its fundamental period (offsets/fundamental.hpp).
+  bool find_fundamentals = true;
+  FundamentalOptions fundamental{};
 };
 
 namespace detail {
@@ -226,8 +235,31 @@ Status sample_features(const Mesh& mesh, const AnalysisOptions<D, M, Det>& optio
 
 /// Stage "lattice": significant dominant offsets reduced to fundamentals,
 /// greedy principal offsets, vertex snapping, then the lattice fit.
+/// Each significant dominant offset replaced by its fundamental period (offsets/fundamental.hpp).
+/// `vertices`: the unique vertex positions (normalized), or null when offsets are not snapped.
+template <class D, class M, class Det>
+void reduce_to_fundamental_periods(const AnalysisOptions<D, M, Det>& options,
+                                   const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices, Analysis& a) {
+  if (!options.find_fundamentals || a.dense.size() == 0) return;
+  IcpOptions icp;
+  icp.spacing = options.dense_spacing;
+  std::unique_ptr<SelfAligner> aligner;  // built on the first significant offset only
+  FundamentalOptions fo = options.fundamental;
+  fo.snap = options.snap;
+  for (DominantOffset& d : a.dominant) {
+    if (!d.significant) continue;
+    if (!aligner) aligner = std::make_unique<SelfAligner>(a.dense, icp);
+    const FundamentalPeriod f = fundamental_period(*aligner, d.offset, d.overlap, d.contrast, fo, vertices);
+    d.offset = f.offset;
+    d.divisor = f.divisor;
+  }
+}
+
 template <class D, class M, class Det>
 Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options, Analysis& a) {
+  Eigen::Matrix<double, Eigen::Dynamic, 3> P;  // unique vertex positions, normalized (offsets/snap.hpp)
+  if (options.snap_to_vertices) P = unique_normalized_vertices(mesh, a.normalization);
+  reduce_to_fundamental_periods(options, options.snap_to_vertices ? &P : nullptr, a);
   std::vector<Eigen::Vector3d> significant;
   std::vector<int> where;  // index in a.dominant of each significant offset
   for (std::size_t i = 0; i < a.dominant.size(); ++i)
@@ -237,7 +269,6 @@ Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>&
   for (int& s : a.axes.source)
     if (s >= 0) s = where[std::size_t(s)];  // PrincipalOffsets::source indexes Analysis::dominant
   if (options.snap_to_vertices && a.axes.real_count > 0) {
-    const Eigen::Matrix<double, Eigen::Dynamic, 3> P = unique_normalized_vertices(mesh, a.normalization);
     for (int k = 0; k < a.axes.real_count; ++k) {
       const SnapResult snapped = snap_offset(P, a.axes.axes[std::size_t(k)], options.snap);
       if (snapped.snapped) a.axes.axes[std::size_t(k)] = snapped.offset;

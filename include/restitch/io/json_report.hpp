@@ -5,7 +5,8 @@
 // Lengths are in model units.
 //
 // analysis_json: scale (normalized units per model unit), features,
-//   dominant_offsets [{offset [x,y,z], votes, overlap, significant}],
+//   dominant_offsets [{offset [x,y,z], votes, overlap, significant, divisor}]
+//   (divisor k >= 2: the peak was k periods long and offset is the period),
 //   principal_offsets [[x,y,z]...] in order, dummy_directions [[x,y,z]...],
 //   lattice_axes [[x,y,z] x3] (the principal offsets in order, then the dummy
 //   directions), resizable [bool x3] (per lattice axis: false for a dummy),
@@ -37,7 +38,8 @@ inline nlohmann::json analysis_json(const Analysis& a) {
     j["dominant_offsets"].push_back({{"offset", detail::vec3(a.normalization.to_model_offset(d.offset))},
                                      {"votes", d.votes},
                                      {"overlap", d.overlap},
-                                     {"significant", d.significant}});
+                                     {"significant", d.significant},
+                                     {"divisor", d.divisor}});
   j["principal_offsets"] = nlohmann::json::array();
   for (const Eigen::Vector3d& v : a.principal_model_units()) j["principal_offsets"].push_back(detail::vec3(v));
   j["dummy_directions"] = nlohmann::json::array();

@@ -118,6 +118,9 @@ struct DominantOffset {
   double double_drift = 0;                               ///< |refine(2 t) - 2 t|
   int iterations = 0;                                    ///< ICP iterations
   bool significant = false;
+  /// The peak was `divisor` periods long and `offset` is its fundamental
+  /// period (offsets/fundamental.hpp, applied by the analysis); 1: as found.
+  int divisor = 1;
 };
 
 /// A detector's answer.

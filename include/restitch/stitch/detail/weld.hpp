@@ -68,7 +68,7 @@ inline std::vector<std::uint32_t> weld_map(const StitchOutput& o, const Mesh& in
   double max_abs = cache.max_abs_coord();
   for (std::uint32_t i = 0; i < std::uint32_t(nv); ++i)
     if (o.is_cut(i) || cache.on_plane(o.source(i))) {
-      std::array<float, 3> p;
+      std::array<float, 3> p{};  // filled by position()
       o.position(i, p.data());
       for (int a = 0; a < 3; ++a) max_abs = std::max(max_abs, double(std::abs(p[std::size_t(a)])));
       ids.push_back(i);
