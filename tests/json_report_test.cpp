@@ -8,7 +8,7 @@
 #include <cmath>
 #include <string>
 
-#include "restitch/samples/samples.hpp"
+#include "restitch/families/families.hpp"
 
 using nlohmann::json;
 using restitch::Analysis;
@@ -170,7 +170,7 @@ TEST_CASE("retarget_json: keys and values of a hand-made report", "[json]") {
 }
 
 TEST_CASE("analysis_json and retarget_json agree with a real analysis and resize of the pin header", "[json]") {
-  auto sample = restitch::samples::generate("pin_header", {{"pins", 5}});
+  auto sample = restitch::families::generate("pin_header", {{"pins", 5}});
   REQUIRE(sample.ok());
   auto a = restitch::analyze(sample->mesh);
   REQUIRE(a.ok());

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "restitch/samples/samples.hpp"
+#include "restitch/families/families.hpp"
 
 using restitch::Analysis;
 using restitch::AnalysisOptions;
@@ -19,7 +19,7 @@ namespace {
 // A small pin header (5 pins): its analysis takes well under a second.
 const Mesh& small_mesh() {
   static const Mesh mesh = [] {
-    auto s = restitch::samples::generate("pin_header", {{"pins", 5}});
+    auto s = restitch::families::generate("pin_header", {{"pins", 5}});
     REQUIRE(s.ok());
     return s->mesh;
   }();
