@@ -5,6 +5,7 @@
 #include <map>
 
 #include "restitch/families/families.hpp"
+#include "restitch/io/gltf.hpp"
 #include "restitch/restitch.hpp"
 #include "support/surface_distance.hpp"
 

@@ -110,13 +110,13 @@ struct ContractEnergy {
   ContractEnergy(CellDescriptors& c, const Eigen::Array3i& steps)
       : cells(c), k(steps), empty_mismatch(1000 * c.max_distance()), forbidden(1000 * empty_mismatch) {}
 
-  Eigen::Array3i in() const { return cells.cells(); }
+  Eigen::Array3i in() const { return cells.grid().dims; }
   Eigen::Array3i out() const { return in() + k; }
-  bool empty(const Eigen::Array3i& c) const { return !inside(c, in()) || cells.empty(cells.linear(c)); }
+  bool empty(const Eigen::Array3i& c) const { return !inside(c, in()) || cells.empty(cells.grid().index(c)); }
   double D(const Eigen::Array3i& a, const Eigen::Array3i& b) const {
     if (empty(a) && empty(b)) return 0;
     if (empty(a) != empty(b)) return empty_mismatch;
-    return cells.distance(cells.linear(a), cells.linear(b));
+    return cells.distance(cells.grid().index(a), cells.grid().index(b));
   }
   double seam(const Eigen::Array3i& x, const Eigen::Array3i& di, const Eigen::Array3i& dj) const {
     return D(x - di, x - dj);
@@ -192,25 +192,25 @@ TEST_CASE("CellDescriptors: Poisson features grouped by the cell they lie in, cl
   const std::vector<Feature> vertices{{at(1.5, 0.5, 0.5), d0}, {at(1.5, 0.5, 0.5), d1}};
   const Analysis a = hand_analysis(poisson, vertices, n);
   CellDescriptors cells(a, grid, SetDistance::hausdorff);
-  REQUIRE((cells.cells() == grid.cells).all());
-  auto count = [&](int i, int j, int k) { return cells.features_in(cells.linear(Eigen::Array3i(i, j, k))); };
+  REQUIRE((cells.grid().dims == grid.cells).all());
+  auto count = [&](int i, int j, int k) { return cells.features_in(cells.grid().index(Eigen::Array3i(i, j, k))); };
   CHECK(count(0, 0, 0) == 2);
   CHECK(count(1, 0, 0) == 0);  // only vertex features there
   CHECK(count(2, 0, 0) == 1);
   CHECK(count(0, 1, 0) == 0);  // only the non-finite one there
   CHECK(count(1, 1, 0) == 1);
   CHECK(count(2, 1, 0) == 1);
-  CHECK(cells.empty(cells.linear(Eigen::Array3i(1, 0, 0))));
-  CHECK_FALSE(cells.empty(cells.linear(Eigen::Array3i(2, 1, 0))));
+  CHECK(cells.empty(cells.grid().index(Eigen::Array3i(1, 0, 0))));
+  CHECK_FALSE(cells.empty(cells.grid().index(Eigen::Array3i(2, 1, 0))));
   // Linear cell order of the contract: x fastest.
-  CHECK(cells.linear(Eigen::Array3i(2, 1, 0)) == 2 + 3 * 1);
-  CHECK(cells.inside(Eigen::Array3i(2, 1, 0)));
-  CHECK_FALSE(cells.inside(Eigen::Array3i(3, 0, 0)));
-  CHECK_FALSE(cells.inside(Eigen::Array3i(0, -1, 0)));
+  CHECK(cells.grid().index(Eigen::Array3i(2, 1, 0)) == 2 + 3 * 1);
+  CHECK(cells.grid().inside(Eigen::Array3i(2, 1, 0)));
+  CHECK_FALSE(cells.grid().inside(Eigen::Array3i(3, 0, 0)));
+  CHECK_FALSE(cells.grid().inside(Eigen::Array3i(0, -1, 0)));
   // Descriptor distances are at most 2 r, r the largest finite descriptor norm (here 1).
   CHECK(cells.max_distance() == Approx(2.0));
   // Cell (0,0,0) holds {d0, d1}, cell (2,1,0) {d0}: Hausdorff = |d1 - d0| = sqrt 2.
-  CHECK(cells.distance(cells.linear(Eigen::Array3i(0, 0, 0)), cells.linear(Eigen::Array3i(2, 1, 0))) ==
+  CHECK(cells.distance(cells.grid().index(Eigen::Array3i(0, 0, 0)), cells.grid().index(Eigen::Array3i(2, 1, 0))) ==
         Approx(std::sqrt(2.0)));
 }
 
@@ -312,7 +312,7 @@ TEST_CASE("SeamMrf: labels, nodes and label lookup for given grid steps", "[ener
   CellDescriptors cells(a, unit_grid({2, 2, 2}), SetDistance::hausdorff);
   const Eigen::Array3i k(2, -1, 0);
   SeamMrf mrf(cells, k, Neighbourhood::n6);
-  CHECK((mrf.out_cells() == Eigen::Array3i(4, 1, 2)).all());
+  CHECK((mrf.out_grid().dims == Eigen::Array3i(4, 1, 2)).all());
   CHECK(mrf.node_count() == 8);
   // Every shift with d_a between 0 and k_a (sign of k_a), x fastest: M = prod(|k_a| + 1).
   const std::vector<Eigen::Array3i> want{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, -1, 0}, {1, -1, 0}, {2, -1, 0}};
@@ -339,10 +339,10 @@ TEST_CASE("SeamMrf: a label whose source cell lies outside the input is forbidde
     INFO("k = " << k.transpose());
     SeamMrf mrf(cells, k, Neighbourhood::n26);
     CHECK(mrf.forbidden() == Approx(1e6 * cells.max_distance()));
-    REQUIRE((mrf.out_cells() == cells.cells() + k).all());
+    REQUIRE((mrf.out_grid().dims == cells.grid().dims + k).all());
     for (int x = 0; x < mrf.node_count(); ++x)
       for (int l = 0; l < mrf.label_count(); ++l) {
-        const bool source_inside = inside(node_cell(x, mrf.out_cells()) - mrf.labels()[std::size_t(l)], cells.cells());
+        const bool source_inside = inside(node_cell(x, mrf.out_grid().dims) - mrf.labels()[std::size_t(l)], cells.grid().dims);
         INFO("node " << x << " label " << l);
         CHECK((mrf.unary(x, l) >= mrf.forbidden()) == !source_inside);
         CHECK(std::isfinite(mrf.unary(x, l)));
@@ -356,7 +356,7 @@ TEST_CASE("SeamMrf: a label whose source cell lies outside the input is forbidde
     }
     CHECK(start.front() == mrf.label_of({0, 0, 0}));
     // The last node is at the high end of every axis (where it has more than one cell): shift k.
-    if ((mrf.out_cells() > 1).all()) CHECK(start.back() == mrf.label_of(k));
+    if ((mrf.out_grid().dims > 1).all()) CHECK(start.back() == mrf.label_of(k));
   }
 }
 
@@ -469,7 +469,7 @@ TEST_CASE("SeamMrf: 26- and 6-neighbourhood edges equal a brute-force enumeratio
   for (const Eigen::Array3i& k : {Eigen::Array3i(1, 1, 1), Eigen::Array3i(2, 0, -1), Eigen::Array3i(0, 0, 0)})
     for (const Neighbourhood nb : {Neighbourhood::n26, Neighbourhood::n6}) {
       SeamMrf mrf(cells, k, nb);
-      const Eigen::Array3i out = cells.cells() + k;
+      const Eigen::Array3i out = cells.grid().dims + k;
       INFO("out " << out.transpose() << (nb == Neighbourhood::n26 ? " n26" : " n6"));
       // Every unordered pair of distinct cells, neighbours by the Chebyshev (26) or Manhattan (6) distance.
       std::set<std::pair<int, int>> want;
