@@ -13,21 +13,22 @@
 //
 // The field (`symmetry_transform`):
 //  * Voxel edge h = `voxel_factor` (2) x the dense spacing s (0.02, so
-//    h = 0.04 normalized units). Two spacings because (a) a Poisson-disk
-//    sample at spacing s puts about (2s)^2 / (0.7 s^2) ~ 5 samples into each
-//    voxel a face crosses, so the field has no holes where a voxel happens to
-//    hold no sample (at h = s about one voxel in three would); (b) a peak is
-//    then known to half a voxel diagonal, 0.035, inside the 0.043 (half a
-//    histogram bin diagonal) the ICP's first stage was designed to capture
+//    h = 0.04 normalized units). Two spacings because (a) the dense samples
+//    hold only about 0.5 points per s^2, so voxels of one spacing that a face
+//    crosses are often empty and the field is speckled, while a near-maximal
+//    sample (every surface point within s of a sample) puts at least one
+//    sample into every 2s x 2s patch of a face; (b) a peak is then known to
+//    half a voxel diagonal, 0.035, inside the 0.043 (half a histogram bin
+//    diagonal) the ICP's first stage was designed to capture
 //    (offsets/refine.hpp); (c) the longest side spans 50 voxels, so a grid is
-//    at most about 100^3 cells after padding, which the FFT does in a fraction
-//    of a second.
+//    at most about 108^3 cells after padding, which the FFT does in a
+//    fraction of a second.
 //  * Trilinear splatting: each sample adds its trilinear weights (summing to
 //    1) to the 8 voxels around it. This is the "mild blur": a face whose
 //    translate falls between voxel layers still correlates with its copy (at
 //    half a voxel off, 72% of the value in a voxel-aligned position, against
 //    0% to 100% for nearest-voxel counting), so near-coincident surfaces count
-//    and a peak does not depend on where the voxel grid falls.
+//    and a peak depends little on where the voxel grid falls.
 //  * The grid starts at floor(min / h) * h (the points' coordinates, per
 //    axis), so two point sets in the same frame are voxelised on the same
 //    grid. n_a = floor((max_a - origin_a) / h) + 2 voxels per axis.
@@ -39,7 +40,7 @@
 //    complex doubles) cells. A larger grid is never allocated: the voxel edge
 //    grows (by the cube root of the excess, at least 5% a step) until the
 //    grid fits, and `SymmetryTransform::voxel` reports the edge used. The
-//    default analysis never needs it (at most about 104^3 = 1.1M cells).
+//    default analysis never needs it (at most 108^3 = 1.26M cells).
 //
 // S_T (`autocorrelate`): R = IFFT(|FFT(f)|^2) with Eigen's FFT module
 // (unsupported/Eigen/FFT, kissfft), 3-D as 1-D transforms along x, y, z.
@@ -50,36 +51,55 @@
 // offset t, S_T(t) is the share of the surface's squared field that lands on
 // the surface under t: about the share of the surface that maps onto itself
 // (n copies of a module, shifted by the period: (n-1)/n of them), somewhat
-// less for a sampled surface (copies are sampled independently; about 0.9 of
-// it on the samples) and less again for a period that falls between voxels.
+// less for a sampled surface (copies are sampled independently) and less
+// again for a period that falls between voxels.
 // The paper further standardises S_T to mean 0, variance 1; restitch keeps
 // the plain ratio because it is a share, comparable between models and with
 // the overlap thresholds of the refinement.
 //
 // Peaks (`symmetry_peaks`): t and -t are the same offset, so only the half of
 // the grid after its centre in memory order is searched: t_z > 0, or t_z = 0
-// and t_y > 0, or t_z = t_y = 0 and t_x > 0. A peak is a voxel offset
-// longer than tau whose S_T is at least every one of its 26 neighbours' (and
-// strictly above those earlier in memory order, so a plateau gives one
-// peak), at least `min_value`. Peaks are ranked by S_T (ties: memory order)
-// and thinned by non-maximum suppression: one within `suppression_radius`
-// (0.15, as the histogram's) of a stronger kept peak or of its negative is
-// dropped. Each peak's position is refined per axis by the vertex of the
-// parabola through S_T at t - e, t, t + e (clamped to half a voxel).
+// and t_y > 0, or t_z = t_y = 0 and t_x > 0. S_T itself is a poor peak
+// signal: a plate or a wall sliding along itself makes S_T fall linearly
+// from 1, and a period on it (the facade's windows) is a shoulder of that
+// slope, not a local maximum. So peaks are taken on the radial contrast
+//   K(t) = S_T(t) - (S_T(t - d u) + S_T(t + d u)) / 2,  u = t / |t|,
+// d = `contrast_distance` (2 voxels; S_T interpolated trilinearly), the
+// second difference the significance test applies to the overlap: about 0
+// on a slide, positive at a period. A peak is a voxel offset longer than
+// tau whose K is at least every one of its 26 neighbours' (strictly above
+// those earlier in memory order, so a plateau gives one peak), with
+// K >= `min_contrast` (0.002) and S_T >= `min_value`. Peaks are ranked by
+// S_T (ties: memory order) and thinned by non-maximum suppression: one within
+// `suppression_radius` (0.15, as the histogram's) of a stronger kept peak or
+// of its negative is dropped. Each peak's position is refined per axis by
+// the vertex of the parabola through K at t - e, t, t + e (clamped to half a
+// voxel).
 //
 // AutocorrelationOffsetDetector (a policy of offsets/detector.hpp):
 //  1. S_T of the dense samples (evidence.dense, normalized), peaks with
-//     S_T >= `min_strength` (0.1), the `max_peaks` (20) strongest.
-//     min_strength is well under the overlap test's 1/3, because S_T
-//     underestimates the overlap (sampling, voxel phase: down to about 0.6 of
-//     it); it only keeps noise maxima out of the refinement.
+//     S_T >= `min_strength` (0.1) and K >= `min_peak_contrast` (0.002), the
+//     `max_peaks` (20) strongest. min_strength is well under the overlap
+//     test's 1/3, because S_T underestimates the overlap (sampling, voxel
+//     phase); it only keeps noise out of the refinement. The contrast
+//     threshold is low because the facade's window periods reach only
+//     0.01-0.02 on a wall that dominates S_T; a sampled plate's slide stays
+//     below it, and chance coincidences that pass it are the refinement's
+//     to reject.
 //  2. The histogram detector's refinement and significance tests
 //     (refine_and_test, offsets/detector.hpp), started from the peaks, so
 //     its DominantOffsets mean the same: ICP from the peak, overlap >= 1/3, a
 //     peak and not a slide, a pattern and not a pair. `votes` (and
 //     `bin_votes`) = round(S_T(peak) x #dense samples): the number of dense
 //     samples S_T says land on the surface. The mass test is replaced by
-//     min_strength (min_votes = 0 in the shared tests).
+//     min_strength (min_votes = 0 in the shared tests). One test is added
+//     (SignificanceOptions::axis_contrast): the contrast must also hold at
+//     2t along each world axis. S_T sees combinations the histogram's
+//     shortest-offset votes never propose: on the fence sample a picket
+//     period plus the gap between the two rails, which maps one rail onto
+//     the other while the pickets slide along themselves, is a strict
+//     maximum at t and keeps overlap at 2t through the sliding pickets; at
+//     2t the rails no longer meet, so along y it is a pure slide.
 //  It ignores features and matches (`uses_matches = false`, so analyze()
 //  skips the matching stage), reports progress and timings under
 //  "autocorrelation" and "refinement", and leaves the sparsity at 0 (it has
@@ -89,9 +109,10 @@
 // Structure score (`structure_score`, `structure_at`): S_T of a mesh's
 // surface, sampled like the analysis (Poisson-disk, spacing 0.02, seed 1,
 // normalized units). `structure_score(mesh)` is the strongest translational
-// symmetry of the mesh in its own normalization: the largest S_T over its
-// peaks longer than tau (0.15), each measured at its sub-voxel position (see
-// `symmetry_at`); 0 without a peak. `structure_at(mesh, offsets, reference)`
+// symmetry of the mesh in its own normalization: the largest S_T over its 8
+// strongest peaks longer than tau (0.15; no minimum S_T), each measured at its
+// sub-voxel position (see `symmetry_at`); 0 without a peak. Sliding large
+// faces count too (the samples score 0.77-0.84, random boxes 0.43-0.69). `structure_at(mesh, offsets, reference)`
 // measures S_T of `mesh` at given offsets (model units) in a *reference*
 // normalization (e.g. the input's Analysis::normalization) so that an input
 // and its resized results are sampled and voxelised on the same grid:
