@@ -10,6 +10,7 @@
 
 #include "restitch/analyze.hpp"
 #include "restitch/families/families.hpp"
+#include "restitch/retarget.hpp"
 
 using nlohmann::json;
 using restitch::Analysis;
@@ -58,6 +59,7 @@ Analysis hand_analysis() {
   a.sparsity.bins = 42;
   a.descriptor_name = "fpfh";
   a.matcher_name = "reduced";
+  a.detector_name = "autocorrelation";
   a.timings_ms = {{"sampling", 1.5}, {"matching", 2.5}};
   return a;
 }
@@ -69,7 +71,7 @@ TEST_CASE("analysis_json: keys and values of a hand-made analysis", "[json]") {
   const json j = restitch::analysis_json(a);
   for (const char* key :
        {"scale", "features", "dominant_offsets", "principal_offsets", "dummy_directions", "lattice_axes", "resizable",
-        "lattice_cells", "lattice_origin", "sparsity", "descriptor", "matcher", "timings_ms"})
+        "lattice_cells", "lattice_origin", "sparsity", "descriptor", "matcher", "detector", "timings_ms"})
     CHECK(j.contains(key));
   CHECK(j["scale"].get<double>() == 0.5);
   CHECK(j["features"].get<int>() == 7);  // all features, not only the Poisson ones
@@ -100,6 +102,7 @@ TEST_CASE("analysis_json: keys and values of a hand-made analysis", "[json]") {
   CHECK(j["sparsity"]["bins"].get<int>() == 42);
   CHECK(j["descriptor"] == "fpfh");
   CHECK(j["matcher"] == "reduced");
+  CHECK(j["detector"] == "autocorrelation");
   CHECK(j["timings_ms"]["sampling"].get<double>() == 1.5);
   CHECK(j["timings_ms"]["matching"].get<double>() == 2.5);
   CHECK(j["timings_ms"].size() == 2);

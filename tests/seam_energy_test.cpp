@@ -342,7 +342,8 @@ TEST_CASE("SeamMrf: a label whose source cell lies outside the input is forbidde
     REQUIRE((mrf.out_grid().dims == cells.grid().dims + k).all());
     for (int x = 0; x < mrf.node_count(); ++x)
       for (int l = 0; l < mrf.label_count(); ++l) {
-        const bool source_inside = inside(node_cell(x, mrf.out_grid().dims) - mrf.labels()[std::size_t(l)], cells.grid().dims);
+        const bool source_inside =
+            inside(node_cell(x, mrf.out_grid().dims) - mrf.labels()[std::size_t(l)], cells.grid().dims);
         INFO("node " << x << " label " << l);
         CHECK((mrf.unary(x, l) >= mrf.forbidden()) == !source_inside);
         CHECK(std::isfinite(mrf.unary(x, l)));

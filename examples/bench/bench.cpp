@@ -1,6 +1,6 @@
 // restitch benchmark: prints figures as tables and writes them as JSON.
 //
-//   bench [--quick] [--json FILE]        (default FILE: bench.json)
+//   bench [--quick] [--json FILE] [--models DIR] [--only SECTION]   (default FILE: bench.json)
 //
 // 1. analysis: time per stage on the samples at growing sizes (~2k to ~200k triangles)
 // 2. shot: SHOT points per second on 3000 points with ~74 neighbours each
@@ -9,13 +9,22 @@
 //    the regular-grid baseline: nodes, labels, solve ms, final energy
 // 4. scaling: solve and stitch time against nodes x labels and against triangles
 // 5. synthetic: a 10x10x10 grid, 26-neighbourhood, 30 labels (truncated linear)
+// 6. detectors: the histogram and the autocorrelation offset detector on every
+//    family (which true generators each recovers, time per stage) and, unless
+//    --quick, on the real models in --models DIR (default ../shared/models)
+//
+//   bench --only detectors     runs section 6 alone
 //
 // Times are wall-clock (steady_clock), best of a few runs for the short ones.
 // They are measurements of this machine, never asserted anywhere.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <string>
 
@@ -251,29 +260,149 @@ void bench_synthetic(bool quick, nlohmann::json& out) {
   }
 }
 
+// 6. The offset detectors side by side: time per stage and what each finds.
+struct DetectorRun {
+  Result<Analysis> analysis = error(StatusCode::internal, "not run");
+  double total_ms = 0;
+};
+
+template <class Detector>
+DetectorRun run_detector(const Mesh& mesh) {
+  AnalysisOptions<ShotDescriptor, BruteForceMatcher, Detector> options;
+  DetectorRun run;
+  const auto t = clock_type::now();
+  run.analysis = analyze(mesh, options);
+  run.total_ms = ms_since(t);
+  return run;
+}
+
+// True when g equals one of `found` up to sign, within 1% of its length and 1 degree.
+bool recovered(const Eigen::Vector3d& g, const std::vector<Eigen::Vector3d>& found) {
+  for (const Eigen::Vector3d& f : found) {
+    const double cosine = std::abs(f.dot(g)) / (f.norm() * g.norm());
+    if (std::abs(f.norm() - g.norm()) <= 0.01 * g.norm() && cosine >= std::cos(3.14159265358979323846 / 180))
+      return true;
+  }
+  return false;
+}
+
+void bench_detector_model(const std::string& name, const Mesh& mesh, const std::vector<Eigen::Vector3d>* truth,
+                          nlohmann::json& out, std::map<std::string, int>& score) {
+  for (const std::string detector : {"histogram", "autocorrelation"}) {
+    const DetectorRun run = detector == "histogram" ? run_detector<HistogramOffsetDetector>(mesh)
+                                                    : run_detector<AutocorrelationOffsetDetector>(mesh);
+    if (!run.analysis) {
+      std::printf("%-34s %-15s %s\n", name.c_str(), detector.c_str(), run.analysis.status().message().c_str());
+      continue;
+    }
+    const Analysis& a = *run.analysis;
+    auto ms = [&](const char* k) { return a.timings_ms.count(k) ? a.timings_ms.at(k) : 0.0; };
+    const std::vector<Eigen::Vector3d> principal = a.principal_model_units();
+    std::string found;
+    int hits = 0;
+    if (truth) {
+      for (const Eigen::Vector3d& g : *truth) hits += recovered(g, principal);
+      found = std::to_string(hits) + "/" + std::to_string(truth->size()) + " true, ";
+      score[detector] += hits;
+    } else {
+      score[detector] += principal.empty() ? 0 : 1;
+    }
+    found += std::to_string(principal.size()) + " principal:";
+    nlohmann::json offsets = nlohmann::json::array();
+    for (const Eigen::Vector3d& v : principal) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, " (%.4g, %.4g, %.4g)", v.x(), v.y(), v.z());
+      found += buf;
+      offsets.push_back({v.x(), v.y(), v.z()});
+    }
+    std::printf("%-34s %-15s %8.1f %8.1f %8.1f %8.1f %8.1f %8.1f %8.1f  %s\n", name.c_str(), detector.c_str(),
+                ms("sampling"), ms("descriptors"), ms("matching"),
+                ms(detector == "histogram" ? "histogram" : "autocorrelation"), ms("refinement"), ms("lattice"),
+                run.total_ms, found.c_str());
+    nlohmann::json j = {{"sample", name},
+                        {"detector", detector},
+                        {"triangles", mesh.triangle_count()},
+                        {"timings_ms", a.timings_ms},
+                        {"total_ms", run.total_ms},
+                        {"principal", offsets},
+                        {"peaks", a.histogram_peaks}};
+    if (truth) j["generators_recovered"] = hits;
+    out["detectors"].push_back(j);
+  }
+}
+
+void bench_detectors(const std::vector<std::string>& families, const std::string& models, bool quick,
+                     nlohmann::json& out) {
+  std::printf(
+      "\n== offset detectors: histogram vs autocorrelation (SHOT, brute force; ms per stage; the\n"
+      "   autocorrelation detector skips matching); found: true generators recovered within 1%%\n");
+  std::printf("%-34s %-15s %8s %8s %8s %8s %8s %8s %8s  %s\n", "model", "detector", "sampling", "descript", "matching",
+              "peaks", "refine", "lattice", "total", "found");
+  std::map<std::string, int> family_score, model_score;
+  for (const std::string& family : families) {
+    auto s = families::generate(family);
+    if (s) bench_detector_model(family, s->mesh, &s->generators, out, family_score);
+  }
+  int model_count = 0;
+  if (!quick && std::filesystem::is_directory(models)) {
+    std::vector<std::string> files;
+    for (const auto& e : std::filesystem::directory_iterator(models))
+      if (e.path().extension() == ".glb") files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    for (const std::string& f : files) {
+      auto mesh = load_gltf(f);
+      if (!mesh) continue;
+      ++model_count;
+      bench_detector_model(std::filesystem::path(f).stem().string(), *mesh, nullptr, out, model_score);
+    }
+  }
+  for (const std::string detector : {"histogram", "autocorrelation"}) {
+    std::printf("%s: %d true generators recovered on the families", detector.c_str(), family_score[detector]);
+    if (model_count) std::printf(", a principal offset on %d of %d real models", model_score[detector], model_count);
+    std::printf("\n");
+    out["detector_summary"][detector] = {{"family_generators", family_score[detector]},
+                                         {"models_with_principal", model_score[detector]},
+                                         {"models", model_count}};
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   bool quick = false;
-  std::string json_path = "bench.json";
+  std::string json_path = "bench.json", only;
+#ifdef RESTITCH_SHARED_MODELS
+  std::string models = RESTITCH_SHARED_MODELS;
+#else
+  std::string models = "../shared/models";
+#endif
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick"))
       quick = true;
     else if (!std::strcmp(argv[i], "--json") && i + 1 < argc)
       json_path = argv[++i];
+    else if (!std::strcmp(argv[i], "--models") && i + 1 < argc)
+      models = argv[++i];
+    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc)
+      only = argv[++i];
     else
-      return std::fprintf(stderr, "usage: bench [--quick] [--json FILE]\n"), 2;
+      return std::fprintf(stderr,
+                          "usage: bench [--quick] [--json FILE] [--models DIR] [--only "
+                          "analysis|shot|comparison|scaling|synthetic|detectors]\n"),
+             2;
   }
+  const auto run = [&](const char* section) { return only.empty() || only == section; };
   nlohmann::json out;
   const std::vector<std::string> families = {"bookshelf", "facade", "facade_sheared", "fence", "pin_header"};
   const std::vector<std::size_t> sizes =
       quick ? std::vector<std::size_t>{0, 20000} : std::vector<std::size_t>{0, 20000, 50000, 200000};
-  bench_analysis(sizes, out);
-  bench_shot(out);
-  bench_label_spaces(families, out);
-  bench_scaling_labels(quick, out);
-  bench_scaling_triangles(sizes, out);
-  bench_synthetic(quick, out);
+  if (run("analysis")) bench_analysis(sizes, out);
+  if (run("shot")) bench_shot(out);
+  if (run("comparison")) bench_label_spaces(families, out);
+  if (run("scaling")) bench_scaling_labels(quick, out);
+  if (run("scaling")) bench_scaling_triangles(sizes, out);
+  if (run("synthetic")) bench_synthetic(quick, out);
+  if (run("detectors")) bench_detectors(families, models, quick, out);
   std::ofstream(json_path) << out.dump(2) << "\n";
   std::printf("\nwrote %s\n", json_path.c_str());
   return 0;

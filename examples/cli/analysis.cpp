@@ -10,25 +10,29 @@
 
 namespace restitch::cli {
 
-Result<Analysis> load_and_analyze(const std::string& input, const std::string& descriptor, const std::string& matcher,
-                                  Mesh& mesh, bool quiet) {
+Result<Analysis> load_and_analyze(const std::string& input, const PolicyNames& policies, Mesh& mesh, bool quiet) {
   GltfLoadReport report;
   Result<Mesh> loaded = load_gltf(input, &report);
   if (!loaded) return loaded.status();
   if (!quiet)
     for (const std::string& w : report.warnings) std::fprintf(stderr, "restitch: warning: %s\n", w.c_str());
   mesh = std::move(*loaded);
-  return analyze_named(mesh, descriptor, matcher, terminal_progress());
+  return analyze_named(mesh, policies.descriptor, policies.matcher, policies.detector, terminal_progress());
 }
 
-void add_policy_options(CLI::App* cmd, std::string& descriptor, std::string& matcher) {
-  cmd->add_option("--descriptor", descriptor, "descriptor policy")
+void add_policy_options(CLI::App* cmd, PolicyNames& policies) {
+  cmd->add_option("--descriptor", policies.descriptor, "descriptor policy")
       ->check(CLI::IsMember(descriptor_names()))
       ->capture_default_str();
   cmd->add_option(
-         "--matcher", matcher,
+         "--matcher", policies.matcher,
          "matcher policy: brute_force (the reference) or reduced (PCA candidates, exact re-ranking); same result")
       ->check(CLI::IsMember(matcher_names()))
+      ->capture_default_str();
+  cmd->add_option("--detector", policies.detector,
+                  "offset detector: histogram (the paper's matched-descriptor offsets) or autocorrelation (peaks of "
+                  "the surface's FFT autocorrelation; skips matching)")
+      ->check(CLI::IsMember(detector_names()))
       ->capture_default_str();
 }
 
@@ -39,11 +43,17 @@ void print_analysis(const std::string& input, const Analysis& a) {
     return std::string(buf);
   };
   std::printf("%s\n", input.c_str());
-  std::printf("  %lld features (%s descriptors, %s matching), %zu histogram peaks, %zu dominant offsets\n",
-              (long long)a.features.points.rows(), a.descriptor_name.c_str(), a.matcher_name.c_str(), a.histogram_peaks,
-              a.dominant.size());
-  std::printf("  sparsity: %.1f%% of offsets in the top 7%% of bins, %.1f%% in the top 20%%\n", 100 * a.sparsity.top7,
-              100 * a.sparsity.top20);
+  if (a.detector_name == "histogram") {  // the default's lines, as they always were
+    std::printf("  %lld features (%s descriptors, %s matching), %zu histogram peaks, %zu dominant offsets\n",
+                (long long)a.features.points.rows(), a.descriptor_name.c_str(), a.matcher_name.c_str(),
+                a.histogram_peaks, a.dominant.size());
+    std::printf("  sparsity: %.1f%% of offsets in the top 7%% of bins, %.1f%% in the top 20%%\n", 100 * a.sparsity.top7,
+                100 * a.sparsity.top20);
+  } else {
+    std::printf("  %lld features (%s descriptors), %s detector: %zu peaks, %zu dominant offsets\n",
+                (long long)a.features.points.rows(), a.descriptor_name.c_str(), a.detector_name.c_str(),
+                a.histogram_peaks, a.dominant.size());
+  }
   const auto principal = a.principal_model_units();
   if (principal.empty()) {
     std::printf("  no repetition found: zero principal offsets, nothing to resize along\n");
@@ -68,17 +78,18 @@ void print_analysis(const std::string& input, const Analysis& a) {
 void register_analysis_commands(CLI::App& app, int* exit_code) {
   {
     struct Args {
-      std::string input, json, descriptor = "shot", matcher = "brute_force";
+      std::string input, json;
+      PolicyNames policies;
     };
     auto args = std::make_shared<Args>();
     CLI::App* cmd =
         app.add_subcommand("analyze", "Find how a model repeats: dominant and principal offsets, and its lattice");
     cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
-    add_policy_options(cmd, args->descriptor, args->matcher);
+    add_policy_options(cmd, args->policies);
     cmd->add_option("--json", args->json, "also write the analysis as JSON to FILE, or - for standard output");
     cmd->callback([args, exit_code] {
       Mesh mesh;
-      Result<Analysis> a = load_and_analyze(args->input, args->descriptor, args->matcher, mesh, args->json == "-");
+      Result<Analysis> a = load_and_analyze(args->input, args->policies, mesh, args->json == "-");
       if (!a) {
         *exit_code = fail(a.status());
         return;

@@ -35,6 +35,11 @@ Progress terminal_progress();
 /// Writes `j` to FILE, or to stdout for "-" (temporary file + rename for files).
 Status write_json(const nlohmann::json& j, const std::string& where);
 
+/// The analysis policies chosen on the command line (--descriptor, --matcher, --detector).
+struct PolicyNames {
+  std::string descriptor = "shot", matcher = "brute_force", detector = "histogram";
+};
+
 /// Each subcommand registers itself: it adds a CLI11 subcommand and sets a
 /// callback that stores its exit code in `*exit_code`.
 using Registrar = std::function<void(CLI::App& app, int* exit_code)>;

@@ -9,9 +9,8 @@
 
 namespace restitch::cli {
 
-Result<Analysis> load_and_analyze(const std::string& input, const std::string& descriptor, const std::string& matcher,
-                                  Mesh& mesh, bool quiet);
-void add_policy_options(CLI::App* cmd, std::string& descriptor, std::string& matcher);
+Result<Analysis> load_and_analyze(const std::string& input, const PolicyNames& policies, Mesh& mesh, bool quiet);
+void add_policy_options(CLI::App* cmd, PolicyNames& policies);
 
 namespace {
 std::string join(const std::vector<int>& v) {
@@ -24,7 +23,8 @@ std::string join(const std::vector<int>& v) {
 namespace {
 
 struct ResizeArgs {
-  std::string input, output, json, dump_mrf, descriptor = "shot", matcher = "brute_force", labels = "lattice";
+  std::string input, output, json, dump_mrf, labels = "lattice";
+  PolicyNames policies;
   std::vector<int> steps;
   std::vector<double> size;
   std::size_t max_problem = RetargetOptions().max_problem_size;
@@ -45,8 +45,9 @@ void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen
   const auto principal = a.principal_model_units();
   std::printf("%s: %zu principal offset(s)", args.input.c_str(), principal.size());
   for (const auto& v : principal) std::printf("  (%.4g, %.4g, %.4g)", v.x(), v.y(), v.z());
-  std::printf("\n  steps %s: %d x %d x %d cells -> %d x %d x %d\n", join(principal_steps_from_lattice(a, steps)).c_str(),
-              rep.cells_in[0], rep.cells_in[1], rep.cells_in[2], rep.cells_out[0], rep.cells_out[1], rep.cells_out[2]);
+  std::printf("\n  steps %s: %d x %d x %d cells -> %d x %d x %d\n",
+              join(principal_steps_from_lattice(a, steps)).c_str(), rep.cells_in[0], rep.cells_in[1], rep.cells_in[2],
+              rep.cells_out[0], rep.cells_out[1], rep.cells_out[2]);
   std::printf("  graph cut (%s labels): %d nodes, %d labels, %d cycles, energy %.6g, solve %.1f ms\n",
               args.labels.c_str(), rep.nodes, rep.labels, rep.cycles, rep.energy,
               rep.timings_ms.count("solve") ? rep.timings_ms.at("solve") : 0.0);
@@ -63,7 +64,7 @@ int run_resize(const ResizeArgs& args) {
   }
   const bool quiet = args.json == "-";
   Mesh mesh;
-  Result<Analysis> a = load_and_analyze(args.input, args.descriptor, args.matcher, mesh, quiet);
+  Result<Analysis> a = load_and_analyze(args.input, args.policies, mesh, quiet);
   if (!a) return fail(a.status());
   RetargetOptions options;
   options.max_problem_size = args.max_problem;
@@ -102,13 +103,15 @@ void register_resize(CLI::App& app, int* exit_code) {
                    ->delimiter(',')
                    ->expected(3);
   steps->excludes(size);
-  add_policy_options(cmd, args->descriptor, args->matcher);
-  cmd->add_option("--labels", args->labels, "label space: lattice (principal offsets) or regular (the paper's baseline)")
+  add_policy_options(cmd, args->policies);
+  cmd->add_option("--labels", args->labels,
+                  "label space: lattice (principal offsets) or regular (the paper's baseline)")
       ->check(CLI::IsMember(label_space_names()))
       ->capture_default_str();
   cmd->add_option("--max-problem", args->max_problem, "refuse requests with more nodes x labels than this")
       ->capture_default_str();
-  cmd->add_option("--dump-mrf", args->dump_mrf, "also write the labelling problem solved to FILE (see `restitch solve`)");
+  cmd->add_option("--dump-mrf", args->dump_mrf,
+                  "also write the labelling problem solved to FILE (see `restitch solve`)");
   cmd->add_option("--json", args->json, "also write the report as JSON to FILE, or - for standard output");
   cmd->callback([args, exit_code] { *exit_code = run_resize(*args); });
 }

@@ -32,7 +32,7 @@ struct Analysis {
   PointSet features;                       ///< Poisson features, then vertex features; normalized
   std::size_t sampled_features = 0;        ///< features [0, sampled_features) are Poisson samples, the rest vertices
   DescriptorMatrix descriptors;            ///< #features by D
-  std::vector<Match> matches;              ///< one per feature
+  std::vector<Match> matches;              ///< one per feature; empty when the detector ignores matches
   std::vector<DominantOffset> dominant;    ///< ranked by votes; refined offsets, normalized
   std::vector<Eigen::Vector3d> principal;  ///< the real principal offsets only, normalized, in selection order
   PrincipalOffsets axes;                   ///< principal offsets completed by dummies, normalized
@@ -41,8 +41,8 @@ struct Analysis {
   Eigen::Vector3d origin_normalized = Eigen::Vector3d::Zero();  ///< lattice origin, normalized space
   Eigen::Array3d phase = Eigen::Array3d::Zero();                ///< chosen grid phase per axis
   Sparsity sparsity;                                            ///< top7, top20 (the paper's Fig. 5)
-  std::size_t histogram_peaks = 0;                              ///< peaks found by non-maximum suppression
-  std::map<std::string, double> timings_ms;  ///< sampling, descriptors, matching, histogram, refinement, lattice
+  std::size_t histogram_peaks = 0;           ///< the detector's peaks after suppression (histogram or S_T)
+  std::map<std::string, double> timings_ms;  ///< per stage (analyze.hpp), e.g. sampling, ..., lattice
   std::string descriptor_name, matcher_name, detector_name;
 
   /// The real principal offsets in model units.

@@ -13,7 +13,12 @@
 //                     (policy, default exact brute force)
 //   5. histogram,     the offset detector (policy, default the paper's
 //      refinement     histogram + NMS + ICP + significance test; the mesh
-//                     vertices serve as exact ICP anchors)
+//                     vertices serve as exact ICP anchors). The
+//                     alternative AutocorrelationOffsetDetector
+//                     (offsets/autocorrelation.hpp) reports
+//                     "autocorrelation" instead of "histogram" and, since it
+//                     ignores matches, step 4 is skipped (Analysis::matches
+//                     stays empty, no "matching" timing)
 //   6. lattice        each significant dominant offset replaced by its
 //                     fundamental period when it is k >= 2 periods long
 //                     (tested on the geometry: offsets/fundamental.hpp), then
@@ -44,7 +49,8 @@
 // principal offsets and a lattice of three dummy axes (the retarget step
 // reports StatusCode::no_repetition when asked to resize along nothing).
 // Progress: the stages report under the names "sampling", "descriptors",
-// "matching", "histogram", "refinement", "lattice"; a callback returning false
+// "matching", "histogram", "refinement", "lattice" (with the autocorrelation
+// detector: no "matching", "autocorrelation" for "histogram"); a callback returning false
 // cancels (StatusCode::cancelled). Never throws; deterministic; no threads.
 // Units: everything in Analysis is normalized except `lattice` (model units)
 // and `principal_model_units()`.
@@ -186,7 +192,7 @@ Status analysis_stage(const char* stage, const Progress& progress, std::map<std:
 /// The mesh's unique vertex positions, normalized, in a fixed (sorted) order:
 /// the points offsets are snapped onto (offsets/snap.hpp).
 inline Eigen::Matrix<double, Eigen::Dynamic, 3> unique_normalized_vertices(const Mesh& mesh,
-                                                                            const Normalization& normalization) {
+                                                                           const Normalization& normalization) {
   std::vector<std::array<float, 3>> unique(std::size_t(mesh.V.rows()));
   for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) unique[std::size_t(i)] = {mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2)};
   std::sort(unique.begin(), unique.end());
@@ -321,13 +327,14 @@ Result<Analysis> analyze(const Mesh& mesh, const AnalysisOptions<D, M, Det>& opt
       return error(StatusCode::internal, "the descriptor policy returned a wrong number of rows");
     return {};
   }));
-  RESTITCH_TRY(detail::analysis_stage("matching", progress, timings, [&]() -> Status {
-    RESTITCH_TRY(options.matcher.match(a.features, a.descriptors, options.tau, a.matches, progress));
-    if (a.matches.size() != std::size_t(a.features.size()))
-      return error(StatusCode::internal, "the matcher policy returned a wrong number of matches");
-    return {};
-  }));
-  {  // Offset detection: the detector reports its own stages ("histogram", "refinement").
+  if constexpr (detector_uses_matches_v<Det>)  // a detector that ignores matches (autocorrelation) skips the stage
+    RESTITCH_TRY(detail::analysis_stage("matching", progress, timings, [&]() -> Status {
+      RESTITCH_TRY(options.matcher.match(a.features, a.descriptors, options.tau, a.matches, progress));
+      if (a.matches.size() != std::size_t(a.features.size()))
+        return error(StatusCode::internal, "the matcher policy returned a wrong number of matches");
+      return {};
+    }));
+  {  // Offset detection: the detector reports its own stages ("histogram" or "autocorrelation", "refinement").
     OffsetDetection det;
     const OffsetEvidence evidence{a.dense, a.features, a.matches, options.dense_spacing, double(options.tau), &anchors};
     RESTITCH_TRY(options.detector.detect(evidence, det, progress));

@@ -19,7 +19,7 @@
 // Every stage is a policy (a template parameter with a default) that a custom
 // build may replace: descriptor (ShotDescriptor, FpfhDescriptor), matcher
 // (BruteForceMatcher, ReducedMatcher), offset detector
-// (HistogramOffsetDetector), label space (LatticeLabels, RegularLabels),
+// (HistogramOffsetDetector, AutocorrelationOffsetDetector), label space (LatticeLabels, RegularLabels),
 // max-flow back end (BkMaxFlow), graph solver (AlphaExpansion) and stitcher
 // (ClipStitcher). Each contract is documented in its header and checked by a
 // static_assert at the entry point. No call throws; each returns a Status or
@@ -41,6 +41,7 @@
 #include "restitch/matcher/brute_force.hpp"
 #include "restitch/matcher/reduced.hpp"
 #include "restitch/mesh.hpp"
+#include "restitch/offsets/autocorrelation.hpp"
 #include "restitch/retarget.hpp"
 #include "restitch/runtime.hpp"
 #include "restitch/solver/alpha_expansion.hpp"

@@ -9,6 +9,8 @@
 //   descriptors  "shot" (default), "fpfh"
 //   matchers     "brute_force" (default, the exact reference), "reduced" (PCA candidates with exact
 //                re-ranking: the same result, faster on varied descriptors, slower when many tie)
+//   detectors    "histogram" (default, the paper's offset histogram), "autocorrelation" (peaks of the
+//                translational symmetry transform S_T by FFT, offsets/autocorrelation.hpp)
 //   label spaces "lattice" (default), "regular" (the paper's baseline)
 //
 // An unknown name is an invalid_argument Status listing the known ones.
@@ -19,6 +21,7 @@
 #include <vector>
 
 #include "restitch/analyze.hpp"
+#include "restitch/offsets/autocorrelation.hpp"
 #include "restitch/retarget.hpp"
 
 namespace restitch {
@@ -29,6 +32,10 @@ inline const std::vector<std::string>& descriptor_names() {
 }
 inline const std::vector<std::string>& matcher_names() {
   static const std::vector<std::string> n{"brute_force", "reduced"};
+  return n;
+}
+inline const std::vector<std::string>& detector_names() {
+  static const std::vector<std::string> n{"histogram", "autocorrelation"};
   return n;
 }
 inline const std::vector<std::string>& label_space_names() {
@@ -42,25 +49,38 @@ inline Status unknown_name(const char* what, const std::string& name, const std:
   for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
   return error(StatusCode::invalid_argument, "unknown " + std::string(what) + " '" + name + "' (known: " + list + ")");
 }
-template <class D, class M>
+template <class D, class M, class Det>
 Result<Analysis> analyze_with(const Mesh& mesh, const Progress& progress) {
-  AnalysisOptions<D, M> options;
+  AnalysisOptions<D, M, Det> options;
   return analyze(mesh, options, progress);
 }
+template <class D, class M>
+Result<Analysis> analyze_detector(const Mesh& mesh, const std::string& detector, const Progress& progress) {
+  if (detector == "histogram") return analyze_with<D, M, HistogramOffsetDetector>(mesh, progress);
+  if (detector == "autocorrelation") return analyze_with<D, M, AutocorrelationOffsetDetector>(mesh, progress);
+  return unknown_name("detector", detector, detector_names());
+}
 template <class D>
-Result<Analysis> analyze_matcher(const Mesh& mesh, const std::string& matcher, const Progress& progress) {
-  if (matcher == "brute_force") return analyze_with<D, BruteForceMatcher>(mesh, progress);
-  if (matcher == "reduced") return analyze_with<D, ReducedMatcher>(mesh, progress);
+Result<Analysis> analyze_matcher(const Mesh& mesh, const std::string& matcher, const std::string& detector,
+                                 const Progress& progress) {
+  if (matcher == "brute_force") return analyze_detector<D, BruteForceMatcher>(mesh, detector, progress);
+  if (matcher == "reduced") return analyze_detector<D, ReducedMatcher>(mesh, detector, progress);
   return unknown_name("matcher", matcher, matcher_names());
 }
 }  // namespace detail
 
-/// analyze() with the descriptor and matcher named at run time, default options otherwise.
+/// analyze() with the descriptor, matcher and offset detector named at run time, default options otherwise.
+inline Result<Analysis> analyze_named(const Mesh& mesh, const std::string& descriptor, const std::string& matcher,
+                                      const std::string& detector, const Progress& progress = {}) {
+  if (descriptor == "shot") return detail::analyze_matcher<ShotDescriptor>(mesh, matcher, detector, progress);
+  if (descriptor == "fpfh") return detail::analyze_matcher<FpfhDescriptor>(mesh, matcher, detector, progress);
+  return detail::unknown_name("descriptor", descriptor, descriptor_names());
+}
+
+/// analyze() with the descriptor and matcher named at run time and the default ("histogram") detector.
 inline Result<Analysis> analyze_named(const Mesh& mesh, const std::string& descriptor = "shot",
                                       const std::string& matcher = "brute_force", const Progress& progress = {}) {
-  if (descriptor == "shot") return detail::analyze_matcher<ShotDescriptor>(mesh, matcher, progress);
-  if (descriptor == "fpfh") return detail::analyze_matcher<FpfhDescriptor>(mesh, matcher, progress);
-  return detail::unknown_name("descriptor", descriptor, descriptor_names());
+  return analyze_named(mesh, descriptor, matcher, "histogram", progress);
 }
 
 /// A Retargeter whose label space is chosen at run time.

@@ -102,6 +102,15 @@ expect 2 "$bin" resize "$work/pins.glb" -o "$work/x.glb"
 "$bin" sample bookshelf -o "$work/shelf.glb" >/dev/null
 expect 0 "$bin" resize "$work/shelf.glb" -o "$work/shelf+.glb" --steps 2,-1 --descriptor fpfh --matcher reduced
 validate "$work/shelf+.glb"
+# --detector: the autocorrelation detector finds the shelf's two repeats and says so in the JSON.
+expect 0 "$bin" analyze "$work/shelf.glb" --detector autocorrelation --json "$work/shelf-ac.json"
+[ "$(json_field detector < "$work/shelf-ac.json")" = '"autocorrelation"' ] && ok || bad "analyze --detector: JSON detector field"
+[ "$(json_field principal_offsets < "$work/shelf-ac.json" | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8")).length)')" = 2 ] && ok || bad "analyze --detector autocorrelation: not 2 principal offsets on the bookshelf"
+expect 0 "$bin" analyze "$work/shelf.glb" --json "$work/shelf-h.json"
+[ "$(json_field detector < "$work/shelf-h.json")" = '"histogram"' ] && ok || bad "analyze: default detector field"
+expect 0 "$bin" resize "$work/shelf.glb" -o "$work/shelf-ac+.glb" --steps 1,1 --detector autocorrelation
+validate "$work/shelf-ac+.glb"
+expect 2 "$bin" analyze "$work/shelf.glb" --detector fourier
 
 # describe: a tiny point set, SHOT and FPFH rows in input order.
 printf '0 0 0 0 0 1\n0.1 0 0 0 0 1\n0 0.1 0 0 0 1\n0.1 0.1 0 0 0 1\n0.05 0.05 0.05 0 1 0\n5 5 5 0 0 1\n' > "$work/p.xyzn"

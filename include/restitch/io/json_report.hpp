@@ -11,7 +11,7 @@
 //   lattice_axes [[x,y,z] x3] (the principal offsets in order, then the dummy
 //   directions), resizable [bool x3] (per lattice axis: false for a dummy),
 //   lattice_cells [U,V,W], lattice_origin [x,y,z], sparsity {top7, top20, bins},
-//   descriptor, matcher, timings_ms {stage: ms}.
+//   descriptor, matcher, detector (the offset detector's name), timings_ms {stage: ms}.
 // retarget_json: steps, grid_steps, nodes, labels, edges, cycles, energy,
 //   non_metric, cells_in, cells_out, size_in, size_out, timings_ms,
 //   output {vertices, triangles}.
@@ -54,6 +54,7 @@ inline nlohmann::json analysis_json(const Analysis& a) {
   j["sparsity"] = {{"top7", a.sparsity.top7}, {"top20", a.sparsity.top20}, {"bins", a.sparsity.bins}};
   j["descriptor"] = a.descriptor_name;
   j["matcher"] = a.matcher_name;
+  j["detector"] = a.detector_name;
   j["timings_ms"] = a.timings_ms;
   return j;
 }

@@ -5,7 +5,10 @@
 // a good part of the model maps onto itself, ranked, each marked significant
 // or not. Principal offsets are then chosen greedily among the significant
 // ones (offsets/principal.hpp). restitch ships the paper's histogram
-// detector; a later autocorrelation detector (docs/method.md 4) plugs in here too.
+// detector (here, the default) and the autocorrelation detector
+// (offsets/autocorrelation.hpp, docs/method.md 1.9). Both hand their
+// candidates to `refine_and_test` (steps 2 and 3 below), so their dominant
+// offsets mean the same.
 //
 // The contract (checked by `is_offset_detector_v<T>`; the analysis
 // static_asserts it with a readable message):
@@ -22,14 +25,18 @@
 //                             const restitch::Progress& progress) const;
 //   };
 //
-// Run-time parameters are members of the policy object.
+// Run-time parameters are members of the policy object. A detector that
+// never reads `evidence.features` / `evidence.matches` may declare
+// `static constexpr bool uses_matches = false;`: analyze() then skips the
+// matching stage and passes an empty match list (`detector_uses_matches_v`).
 //
 // HistogramOffsetDetector (docs/method.md 1.4-1.5):
 //  1. Histogram: one vote per matched feature, v = y - x, bins of 0.05, peaks
 //     by non-maximum suppression with radius 0.15, ranked by mass
 //     (offsets/histogram.hpp). Sparsity of the histogram (Fig. 5).
-//  2. The `max_peaks` (20; the paper reports "about 20 dominant offsets") top
-//     peaks with at least `min_votes` mass are refined by translation-only ICP
+//  2. (Steps 2 and 3 are `refine_and_test`, shared by every shipped
+//     detector.) The `max_peaks` (20; the paper reports "about 20 dominant
+//     offsets") top peaks with at least `min_votes` mass are refined by translation-only ICP
 //     of the dense cloud onto itself, from the bin centre, with the mesh
 //     vertices (evidence.anchors) as exact point-to-point anchors
 //     (offsets/refine.hpp). A peak that refines to within the overlap radius
@@ -77,6 +84,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -105,18 +113,19 @@ struct OffsetEvidence {
   const PointSet* anchors = nullptr;  ///< mesh vertices (normalized, with normals) as exact ICP anchors; may be null
 };
 
-/// A dominant offset: a histogram peak after refinement.
+/// A dominant offset: a peak (of the histogram, or of S_T) after refinement.
 struct DominantOffset {
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();      ///< refined, normalized
-  Eigen::Vector3d bin_center = Eigen::Vector3d::Zero();  ///< the peak bin's centre (where ICP started)
-  std::size_t votes = 0;                                 ///< peak mass (bin and 26 neighbours)
-  std::size_t bin_votes = 0;                             ///< votes in the peak bin alone
-  double overlap = 0;                                    ///< see offsets/refine.hpp
-  double contrast = 0;                                   ///< see the header comment
-  double overlap_double = 0;                             ///< overlap(2 t)
-  double contrast_double = 0;                            ///< contrast at 2 t
-  double double_drift = 0;                               ///< |refine(2 t) - 2 t|
-  int iterations = 0;                                    ///< ICP iterations
+  Eigen::Vector3d bin_center = Eigen::Vector3d::Zero();  ///< where ICP started: the peak bin's centre (or S_T peak)
+  std::size_t votes = 0;            ///< peak mass (bin and 26 neighbours; autocorrelation: S_T x #dense)
+  std::size_t bin_votes = 0;        ///< votes in the peak bin alone (autocorrelation: = votes)
+  double overlap = 0;               ///< see offsets/refine.hpp
+  double contrast = 0;              ///< see the header comment
+  double overlap_double = 0;        ///< overlap(2 t)
+  double contrast_double = 0;       ///< contrast at 2 t
+  double axis_contrast_double = 0;  ///< least contrast at 2 t along t and the world axes (if tested)
+  double double_drift = 0;          ///< |refine(2 t) - 2 t|
+  int iterations = 0;               ///< ICP iterations
   bool significant = false;
   /// The peak was `divisor` periods long and `offset` is its fundamental
   /// period (offsets/fundamental.hpp, applied by the analysis); 1: as found.
@@ -127,7 +136,7 @@ struct DominantOffset {
 struct OffsetDetection {
   std::vector<DominantOffset> dominant;  ///< ranked, strongest first
   Sparsity sparsity;
-  std::size_t peaks = 0;                     ///< histogram peaks before the max_peaks cap
+  std::size_t peaks = 0;                     ///< peaks (histogram or S_T) before the max_peaks cap
   std::map<std::string, double> timings_ms;  ///< per stage, e.g. "histogram", "refinement"
 };
 
@@ -153,6 +162,106 @@ inline double elapsed_ms(std::chrono::steady_clock::time_point since) {
 template <class T>
 inline constexpr bool is_offset_detector_v = detail::is_offset_detector<T>::value;
 
+namespace detail {
+template <class T, class = void>
+struct detector_uses_matches : std::true_type {};
+template <class T>
+struct detector_uses_matches<T, std::void_t<decltype(T::uses_matches)>> : std::bool_constant<bool(T::uses_matches)> {};
+}  // namespace detail
+
+/// False when the detector declares `static constexpr bool uses_matches = false;` (see the header comment).
+template <class T>
+inline constexpr bool detector_uses_matches_v = detail::detector_uses_matches<T>::value;
+
+/// A candidate dominant offset for the shared refinement and significance
+/// tests (refine_and_test): where ICP starts and how strong its evidence is.
+struct OffsetCandidate {
+  Eigen::Vector3d start = Eigen::Vector3d::Zero();  ///< ICP start (normalized): a bin centre, an S_T peak...
+  std::size_t votes = 0;                            ///< evidence mass (DominantOffset::votes)
+  std::size_t bin_votes = 0;                        ///< evidence at the start alone (DominantOffset::bin_votes)
+};
+
+/// Thresholds of the significance tests (see the header comment), shared by the shipped detectors.
+struct SignificanceOptions {
+  std::size_t min_votes = 5;
+  double min_overlap = 1.0 / 3.0;
+  double min_contrast = 0.01;
+  double min_repeat_ratio = 0.25;  ///< overlap(2t) / overlap(t) at least this
+  double max_double_drift = 0.25;  ///< |refine(2t) - 2t| at most this many dense spacings
+  IcpOptions icp{};                ///< `icp.spacing` is replaced by the evidence's dense spacing
+  /// Also require the contrast at 2t along each world axis (the autocorrelation detector; see
+  /// offsets/autocorrelation.hpp): a period combined with a slide is no strict maximum at 2t.
+  bool axis_contrast = false;
+
+  bool valid() const {
+    return min_overlap >= 0 && min_overlap <= 1 && std::isfinite(min_contrast) && min_repeat_ratio >= 0 &&
+           std::isfinite(min_repeat_ratio) && max_double_drift >= 0;
+  }
+};
+
+/// Step 2 and 3 of the header comment, for any detector: refines each
+/// candidate, in the given order, by translation-only ICP of the dense cloud
+/// onto itself (with the evidence's anchors), drops it when it slides to
+/// within tau of 0 or to within the overlap radius of an offset already kept,
+/// and runs the significance tests on the rest. Appends to `out` (which it
+/// does not clear: earlier entries count as kept offsets). Reports progress
+/// under "refinement" (fractions in [0, 1), never 1: the caller closes the
+/// stage); a cancel gives StatusCode::cancelled. Deterministic.
+/// Cost: O(#candidates * (2 * iterations + 5) * 2048 * log #dense) plus the
+/// k-d tree builds, none when there is no candidate or no dense point.
+inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<OffsetCandidate>& todo,
+                              const SignificanceOptions& tests, const Progress& progress,
+                              std::vector<DominantOffset>& out) {
+  if (todo.empty() || ev.dense.size() == 0) return {};
+  IcpOptions options = tests.icp;
+  options.spacing = ev.dense_spacing;
+  const SelfAligner aligner(ev.dense, options, ev.anchors);
+  const double radius = options.overlap_radius();
+  for (std::size_t k = 0; k < todo.size(); ++k) {
+    if (!progress.report("refinement", double(k) / double(todo.size())))
+      return error(StatusCode::cancelled, "cancelled during offset refinement");
+    const RefinedOffset r = aligner.refine(todo[k].start);
+    bool duplicate = r.offset.norm() <= ev.tau;  // slid onto the trivial self-match t = 0
+    for (const DominantOffset& d : out) duplicate = duplicate || (d.offset - r.offset).norm() <= radius;
+    if (duplicate) continue;
+    DominantOffset d;
+    d.offset = r.offset;
+    d.bin_center = todo[k].start;
+    d.votes = todo[k].votes;
+    d.bin_votes = todo[k].bin_votes;
+    d.overlap = r.overlap;
+    d.iterations = r.iterations;
+    // Significance, cheapest tests first (later fields stay 0 once one fails).
+    const auto kink = [&](const Eigen::Vector3d& t, double at_t) {
+      const Eigen::Vector3d step = t.normalized() * (2 * radius);
+      return at_t - 0.5 * (aligner.overlap(t - step) + aligner.overlap(t + step));
+    };
+    bool ok = d.votes >= tests.min_votes && d.overlap >= tests.min_overlap;
+    if (ok) d.contrast = kink(r.offset, r.overlap), ok = d.contrast >= tests.min_contrast;
+    if (ok) {
+      const RefinedOffset r2 = aligner.refine(2 * r.offset);
+      d.double_drift = (r2.offset - 2 * r.offset).norm();
+      d.overlap_double = aligner.overlap(2 * r.offset);
+      ok = d.double_drift <= tests.max_double_drift * ev.dense_spacing &&
+           d.overlap_double >= tests.min_repeat_ratio * d.overlap;
+    }
+    if (ok) d.contrast_double = kink(2 * r.offset, d.overlap_double), ok = d.contrast_double >= tests.min_contrast;
+    if (ok && tests.axis_contrast) {
+      d.axis_contrast_double = d.contrast_double;
+      for (int axis = 0; axis < 3; ++axis) {
+        const Eigen::Vector3d step = Eigen::Vector3d::Unit(axis) * (2 * radius);
+        d.axis_contrast_double = std::min(
+            d.axis_contrast_double,
+            d.overlap_double - 0.5 * (aligner.overlap(2 * r.offset - step) + aligner.overlap(2 * r.offset + step)));
+      }
+      ok = d.axis_contrast_double >= tests.min_contrast;
+    }
+    d.significant = ok;
+    out.push_back(d);
+  }
+  return {};
+}
+
 /// The paper's detector: histogram, non-maximum suppression, ICP refinement, significance (see header).
 struct HistogramOffsetDetector {
   static constexpr const char* name = "histogram";
@@ -167,6 +276,11 @@ struct HistogramOffsetDetector {
   double max_double_drift = 0.25;  ///< |refine(2t) - 2t| at most this many dense spacings
   IcpOptions icp{};                ///< `icp.spacing` is replaced by the evidence's dense spacing
 
+  /// The significance thresholds above, for refine_and_test.
+  SignificanceOptions significance() const {
+    return {min_votes, min_overlap, min_contrast, min_repeat_ratio, max_double_drift, icp};
+  }
+
   Status detect(const OffsetEvidence& ev, OffsetDetection& out, const Progress& progress) const {
     out = OffsetDetection{};
     if (ev.matches.size() != std::size_t(ev.features.size()))
@@ -175,9 +289,7 @@ struct HistogramOffsetDetector {
       return error(StatusCode::invalid_argument, "the dense samples need one normal per point");
     if (!(ev.dense_spacing > 0) || !std::isfinite(ev.dense_spacing) || !(ev.tau >= 0) || !std::isfinite(ev.tau))
       return error(StatusCode::invalid_argument, "the dense spacing must be positive and tau non-negative");
-    if (!(max_peaks >= 1 && min_overlap >= 0 && min_overlap <= 1 && std::isfinite(min_contrast) &&
-          min_repeat_ratio >= 0 && std::isfinite(min_repeat_ratio) && max_double_drift >= 0 &&
-          suppression_radius >= 0 && std::isfinite(suppression_radius)))
+    if (!(max_peaks >= 1 && significance().valid() && suppression_radius >= 0 && std::isfinite(suppression_radius)))
       return error(StatusCode::invalid_argument, "HistogramOffsetDetector parameters out of range");
 
     // 1. Histogram and peaks.
@@ -204,47 +316,10 @@ struct HistogramOffsetDetector {
 
     // 2. Refinement and significance.
     t0 = std::chrono::steady_clock::now();
-    std::vector<HistogramPeak> todo;
+    std::vector<OffsetCandidate> todo;
     for (const HistogramPeak& p : peaks)
-      if (p.mass >= min_votes && todo.size() < max_peaks) todo.push_back(p);
-    if (!todo.empty() && ev.dense.size() > 0) {
-      IcpOptions options = icp;
-      options.spacing = ev.dense_spacing;
-      const SelfAligner aligner(ev.dense, options, ev.anchors);
-      const double radius = options.overlap_radius();
-      for (std::size_t k = 0; k < todo.size(); ++k) {
-        if (!progress.report("refinement", double(k) / double(todo.size())))
-          return error(StatusCode::cancelled, "cancelled during offset refinement");
-        const RefinedOffset r = aligner.refine(todo[k].center);
-        bool duplicate = r.offset.norm() <= ev.tau;  // slid onto the trivial self-match t = 0
-        for (const DominantOffset& d : out.dominant) duplicate = duplicate || (d.offset - r.offset).norm() <= radius;
-        if (duplicate) continue;
-        DominantOffset d;
-        d.offset = r.offset;
-        d.bin_center = todo[k].center;
-        d.votes = todo[k].mass;
-        d.bin_votes = todo[k].votes;
-        d.overlap = r.overlap;
-        d.iterations = r.iterations;
-        // Significance, cheapest tests first (later fields stay 0 once one fails).
-        const auto kink = [&](const Eigen::Vector3d& t, double at_t) {
-          const Eigen::Vector3d step = t.normalized() * (2 * radius);
-          return at_t - 0.5 * (aligner.overlap(t - step) + aligner.overlap(t + step));
-        };
-        bool ok = d.votes >= min_votes && d.overlap >= min_overlap;
-        if (ok) d.contrast = kink(r.offset, r.overlap), ok = d.contrast >= min_contrast;
-        if (ok) {
-          const RefinedOffset r2 = aligner.refine(2 * r.offset);
-          d.double_drift = (r2.offset - 2 * r.offset).norm();
-          d.overlap_double = aligner.overlap(2 * r.offset);
-          ok =
-              d.double_drift <= max_double_drift * ev.dense_spacing && d.overlap_double >= min_repeat_ratio * d.overlap;
-        }
-        if (ok) d.contrast_double = kink(2 * r.offset, d.overlap_double), ok = d.contrast_double >= min_contrast;
-        d.significant = ok;
-        out.dominant.push_back(d);
-      }
-    }
+      if (p.mass >= min_votes && todo.size() < max_peaks) todo.push_back({p.center, p.mass, p.votes});
+    RESTITCH_TRY(refine_and_test(ev, todo, significance(), progress, out.dominant));
     out.timings_ms["refinement"] = detail::elapsed_ms(t0);
     if (!progress.report("refinement", 1)) return error(StatusCode::cancelled, "cancelled during offset refinement");
     return {};
