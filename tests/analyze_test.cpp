@@ -14,39 +14,11 @@
 #include "restitch/families/families.hpp"
 
 #include "support/mesh_builders.hpp"
+#include "support/sampled_shapes.hpp"
 
 using namespace restitch;
 using Eigen::Vector3d;
-using restitch::test::add_box;
-
-namespace {
-
-double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
-
-// A single irregular object: a few boxes of different random sizes at random places.
-Mesh random_boxes(std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  Mesh m;
-  const int n = 3 + int(rng() % 4);
-  for (int b = 0; b < n; ++b) {
-    const Vector3d lo(2 * unit(rng), 2 * unit(rng), 2 * unit(rng));
-    const Vector3d size(0.2 + unit(rng), 0.2 + unit(rng), 0.2 + unit(rng));
-    add_box(m, lo, lo + size);
-  }
-  return m;
-}
-
-// True when g equals one of `found` up to sign, within `rel` of its length and `degrees`.
-bool recovered(const Vector3d& g, const std::vector<Vector3d>& found, double rel, double degrees) {
-  for (const Vector3d& f : found) {
-    const Vector3d s = f.dot(g) < 0 ? Vector3d(-f) : f;
-    const double angle = std::acos(std::min(1.0, s.dot(g) / (s.norm() * g.norm()))) * 180.0 / 3.14159265358979323846;
-    if (std::abs(s.norm() - g.norm()) <= rel * g.norm() && angle <= degrees) return true;
-  }
-  return false;
-}
-
-}  // namespace
+using namespace restitch::test;
 
 TEST_CASE("analysis recovers the generators of every sample family", "[analysis][samples]") {
   const char* families[] = {"bookshelf", "facade", "facade_sheared", "fence", "pin_header"};

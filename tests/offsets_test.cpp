@@ -14,68 +14,19 @@
 #include "restitch/offsets/refine.hpp"
 
 #include "support/mesh_builders.hpp"
+#include "support/sampled_shapes.hpp"
 
 using namespace restitch;
 using Eigen::Vector3d;
 using Eigen::Vector3i;
-using restitch::test::add_box;
+using namespace restitch::test;
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Uniform in [0, 1) from the raw engine output (portable across standard libraries).
-double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
-
 void repeat(std::vector<Vector3d>& v, const Vector3d& x, int n) {
   for (int i = 0; i < n; ++i) v.push_back(x);
-}
-
-// Jittered-grid samples on the surface of an axis-aligned box, spacing s.
-void sample_box(std::vector<Vector3d>& P, std::vector<Vector3d>& N, const Vector3d& lo, const Vector3d& hi, double s,
-                std::mt19937_64& rng) {
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = 0; side < 2; ++side) {
-      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-      const int nu = std::max(1, int(std::round((hi[u] - lo[u]) / s)));
-      const int nv = std::max(1, int(std::round((hi[v] - lo[v]) / s)));
-      for (int i = 0; i < nu; ++i)
-        for (int j = 0; j < nv; ++j) {
-          Vector3d p;
-          p[axis] = side ? hi[axis] : lo[axis];
-          p[u] = lo[u] + (hi[u] - lo[u]) * (i + 0.2 + 0.6 * unit(rng)) / nu;
-          p[v] = lo[v] + (hi[v] - lo[v]) * (j + 0.2 + 0.6 * unit(rng)) / nv;
-          Vector3d n = Vector3d::Zero();
-          n[axis] = side ? 1 : -1;
-          P.push_back(p);
-          N.push_back(n);
-        }
-    }
-}
-
-PointSet to_point_set(const std::vector<Vector3d>& P, const std::vector<Vector3d>& N) {
-  PointSet s;
-  s.points.resize(Eigen::Index(P.size()), 3);
-  s.normals.resize(Eigen::Index(P.size()), 3);
-  for (std::size_t i = 0; i < P.size(); ++i) {
-    s.points.row(Eigen::Index(i)) = P[i].cast<float>().transpose();
-    s.normals.row(Eigen::Index(i)) = N[i].cast<float>().transpose();
-  }
-  return s;
-}
-
-// A 4 x 3 lattice of identical boxes (generators t1, t2), sampled at spacing 0.02.
-const Vector3d kT1(0.37, 0.0, 0.0), kT2(0.08, 0.33, 0.0);
-PointSet lattice_cloud(std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::vector<Vector3d> P, N;
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 3; ++j) {
-      const Vector3d o = Vector3d(-0.7, -0.5, -0.1) + i * kT1 + j * kT2;
-      sample_box(P, N, o, o + Vector3d(0.2, 0.14, 0.2), 0.02, rng);
-      sample_box(P, N, o + Vector3d(0.05, 0.14, 0.05), o + Vector3d(0.09, 0.24, 0.09), 0.02, rng);  // a peg
-    }
-  return to_point_set(P, N);
 }
 
 }  // namespace
