@@ -118,10 +118,11 @@ test('analysis finds the bookshelf generators as principal offsets (model units)
   const a = shelfAnalysis.analysis;
   // Exactly the fields of `restitch analyze --json` (restitch/io/json_report.hpp).
   assert.deepEqual(Object.keys(a).sort(),
-                   ['descriptor', 'dominant_offsets', 'dummy_directions', 'features', 'lattice_axes', 'lattice_cells',
+                   ['descriptor', 'detector', 'dominant_offsets', 'dummy_directions', 'features', 'lattice_axes', 'lattice_cells',
                     'lattice_origin', 'matcher', 'principal_offsets', 'resizable', 'scale', 'sparsity', 'timings_ms']);
   assert.equal(a.descriptor, 'shot');
   assert.equal(a.matcher, 'reduced');
+  assert.equal(a.detector, 'histogram');
   // The principal offsets are the lattice's resizable (non-dummy) axes, in order (what the retarget steps refer to).
   const dummy = (c) => a.dummy_directions.some((d) => d.every((x, k) => x === a.lattice_axes[c][k]));
   assert.deepEqual(a.resizable, [0, 1, 2].map((c) => !dummy(c)), 'resizable is false exactly on the dummy directions');
