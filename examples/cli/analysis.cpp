@@ -1,6 +1,7 @@
 // restitch analyze IN [...]   and   restitch describe POINTS.xyzn [...]
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include "cli.hpp"
 #include "restitch/descriptor/xyzn.hpp"
@@ -17,7 +18,14 @@ Result<Analysis> load_and_analyze(const std::string& input, const PolicyNames& p
   if (!quiet)
     for (const std::string& w : report.warnings) std::fprintf(stderr, "restitch: warning: %s\n", w.c_str());
   mesh = std::move(*loaded);
-  return analyze_named(mesh, policies.descriptor, policies.matcher, policies.detector, terminal_progress());
+  Result<Analysis> a =
+      analyze_named(mesh, policies.descriptor, policies.matcher, policies.detector, terminal_progress());
+  if (!a || policies.offsets.empty()) return a;
+  std::vector<Eigen::Vector3d> offsets;
+  for (std::size_t i = 0; i + 2 < policies.offsets.size(); i += 3)
+    offsets.emplace_back(policies.offsets[i], policies.offsets[i + 1], policies.offsets[i + 2]);
+  RESTITCH_TRY(promote_offsets_named(mesh, offsets, *a));
+  return a;
 }
 
 void add_policy_options(CLI::App* cmd, PolicyNames& policies) {
@@ -34,14 +42,62 @@ void add_policy_options(CLI::App* cmd, PolicyNames& policies) {
                   "the surface's FFT autocorrelation; skips matching)")
       ->check(CLI::IsMember(detector_names()))
       ->capture_default_str();
+  cmd->add_option("--offsets", policies.offsets,
+                  "make these offsets principal, first: X,Y,Z[,X,Y,Z[,X,Y,Z]] in model units (e.g. a candidate "
+                  "that `analyze` lists); each is refined on the model, so it need not be exact")
+      ->delimiter(',')
+      ->check([](const std::string& v) {
+        char* end = nullptr;
+        const double x = std::strtod(v.c_str(), &end);
+        return end != v.c_str() && *end == 0 && std::isfinite(x) ? std::string() : "not a number: " + v;
+      });
 }
 
-void print_analysis(const std::string& input, const Analysis& a) {
-  auto v3 = [](const Eigen::Vector3d& v) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "(%.5g, %.5g, %.5g)", v.x(), v.y(), v.z());
-    return std::string(buf);
-  };
+/// --offsets must come in whole triples (CLI11 checks each number, this the count).
+bool offsets_are_triples(const PolicyNames& policies) {
+  if (policies.offsets.size() % 3 == 0 && policies.offsets.size() <= 9) return true;
+  std::fprintf(stderr, "restitch: --offsets takes one to three X,Y,Z triples (%zu numbers given)\n",
+               policies.offsets.size());
+  return false;
+}
+
+namespace {
+std::string v3(const Eigen::Vector3d& v) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%.5g, %.5g, %.5g)", v.x(), v.y(), v.z());
+  return std::string(buf);
+}
+
+// --verbose: every dominant offset with the tests it ran (value, threshold) and its verdict.
+void print_dominant_offsets(const Analysis& a) {
+  for (std::size_t i = 0; i < a.dominant.size(); ++i) {
+    const DominantOffset& d = a.dominant[i];
+    const OffsetTest* failed = d.failed_test();
+    std::printf("  dominant %zu: %s, %zu votes: %s%s\n", i + 1, v3(a.normalization.to_model_offset(d.offset)).c_str(),
+                d.votes, failed ? "rejected by " : (d.significant ? "significant" : "not tested"),
+                failed ? failed->name.c_str() : "");
+    for (const OffsetTest& t : d.tests)
+      std::printf("      %-21s %9.4g %s %-9.4g %s\n", t.name.c_str(), t.value, t.at_most ? "<=" : ">=", t.threshold,
+                  t.passed ? "passed" : "FAILED");
+    if (d.divisor > 1) std::printf("      fundamental period: the peak was %d periods long\n", d.divisor);
+    if (d.promoted) std::printf("      promoted on request (--offsets)\n");
+  }
+}
+}  // namespace
+
+/// The candidates (pairs, parallel repeats) and how to resize along one.
+void print_candidates(const Analysis& a) {
+  for (std::size_t i = 0; i < a.candidates.size(); ++i) {
+    const RepeatCandidate& c = a.candidates[i];
+    const Eigen::Vector3d v = a.model_units(c);
+    std::printf("  candidate %zu: %s, length %.5g, %s (%s%d copies): resize along it with --offsets %.6g,%.6g,%.6g\n",
+                i + 1, v3(v).c_str(), v.norm(),
+                c.reason == "pair" ? "a pair" : "parallel to a principal offset", c.reason == "pair" ? "" : "about ",
+                c.copies, v.x(), v.y(), v.z());
+  }
+}
+
+void print_analysis(const std::string& input, const Analysis& a, bool verbose) {
   std::printf("%s\n", input.c_str());
   if (a.detector_name == "histogram") {  // the default's lines, as they always were
     std::printf("  %lld features (%s descriptors, %s matching), %zu histogram peaks, %zu dominant offsets\n",
@@ -63,6 +119,8 @@ void print_analysis(const std::string& input, const Analysis& a) {
   }
   for (int c = 0; c < 3; ++c)
     if (a.lattice.dummy[c]) std::printf("  dummy direction: %s (not resized)\n", v3(a.lattice.A.col(c)).c_str());
+  print_candidates(a);
+  if (verbose) print_dominant_offsets(a);
   std::printf("  lattice: %d x %d x %d cells\n", a.lattice.cells[0], a.lattice.cells[1], a.lattice.cells[2]);
   double total = 0;
   std::string stages;
@@ -80,6 +138,7 @@ void register_analysis_commands(CLI::App& app, int* exit_code) {
     struct Args {
       std::string input, json;
       PolicyNames policies;
+      bool verbose = false;
     };
     auto args = std::make_shared<Args>();
     CLI::App* cmd =
@@ -87,14 +146,20 @@ void register_analysis_commands(CLI::App& app, int* exit_code) {
     cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
     add_policy_options(cmd, args->policies);
     cmd->add_option("--json", args->json, "also write the analysis as JSON to FILE, or - for standard output");
+    cmd->add_flag("-v,--verbose", args->verbose,
+                  "also print every dominant offset with the significance tests it ran (values and thresholds)");
     cmd->callback([args, exit_code] {
+      if (!offsets_are_triples(args->policies)) {
+        *exit_code = exit_usage;
+        return;
+      }
       Mesh mesh;
       Result<Analysis> a = load_and_analyze(args->input, args->policies, mesh, args->json == "-");
       if (!a) {
         *exit_code = fail(a.status());
         return;
       }
-      if (args->json != "-") print_analysis(args->input, *a);
+      if (args->json != "-") print_analysis(args->input, *a, args->verbose);
       if (!args->json.empty())
         if (Status s = write_json(analysis_json(*a), args->json); !s) {
           *exit_code = fail(s, true);

@@ -6,6 +6,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "restitch/progress.hpp"
 #include "restitch/status.hpp"
@@ -38,6 +39,7 @@ Status write_json(const nlohmann::json& j, const std::string& where);
 /// The analysis policies chosen on the command line (--descriptor, --matcher, --detector).
 struct PolicyNames {
   std::string descriptor = "shot", matcher = "brute_force", detector = "histogram";
+  std::vector<double> offsets;  ///< --offsets: x,y,z triples (model units) made principal first
 };
 
 /// Each subcommand registers itself: it adds a CLI11 subcommand and sets a

@@ -1,4 +1,6 @@
 // restitch resize IN -o OUT (--steps | --size) [...]   and   restitch solve FILE [...]
+#include <array>
+#include <cmath>
 #include <cstdio>
 
 #include "cli.hpp"
@@ -11,6 +13,7 @@ namespace restitch::cli {
 
 Result<Analysis> load_and_analyze(const std::string& input, const PolicyNames& policies, Mesh& mesh, bool quiet);
 void add_policy_options(CLI::App* cmd, PolicyNames& policies);
+bool offsets_are_triples(const PolicyNames& policies);
 
 namespace {
 std::string join(const std::vector<int>& v) {
@@ -29,6 +32,32 @@ struct ResizeArgs {
   std::vector<double> size;
   std::size_t max_problem = RetargetOptions().max_problem_size;
 };
+
+// A --size change along a world axis no principal offset runs along uses a candidate that runs along
+// it (Analysis::candidates_for_axes), unless --offsets chose the offsets; says so.
+Status use_candidates_for_size(const ResizeArgs& args, const Mesh& mesh, Analysis& a, bool quiet) {
+  if (args.size.empty() || !args.policies.offsets.empty()) return {};
+  const Eigen::Vector3d size_in = bounding_box(mesh).size();
+  std::array<bool, 3> change{{false, false, false}};
+  for (int k = 0; k < 3; ++k)
+    change[std::size_t(k)] = args.size[std::size_t(k)] != 0 &&
+                             std::abs(args.size[std::size_t(k)] - size_in[k]) > 1e-9 * size_in.norm();
+  const std::vector<int> use = a.candidates_for_axes(change);
+  if (use.empty()) return {};
+  std::vector<Eigen::Vector3d> offsets;
+  for (const int c : use) {
+    const RepeatCandidate& cand = a.candidates[std::size_t(c)];
+    offsets.push_back(a.model_units(cand));
+    if (!quiet)
+      std::printf("no principal offset runs along %c: using candidate %d %s (%s, %d copies)\n",
+                  "xyz"[world_axis_of(cand.offset)], c + 1,
+                  ("(" + std::to_string(offsets.back().x()) + ", " + std::to_string(offsets.back().y()) + ", " +
+                   std::to_string(offsets.back().z()) + ")")
+                      .c_str(),
+                  cand.reason.c_str(), cand.copies);
+  }
+  return promote_offsets_named(mesh, offsets, a);
+}
 
 // The lattice steps of a request: --steps as given, or the nearest to --size.
 Result<Eigen::Array3i> requested_steps(const ResizeArgs& args, const Analysis& a, AnyRetargeter& r, bool quiet) {
@@ -62,10 +91,12 @@ int run_resize(const ResizeArgs& args) {
     std::fprintf(stderr, "restitch resize: give --steps a[,b[,c]] or --size X,Y,Z\n");
     return exit_usage;
   }
+  if (!offsets_are_triples(args.policies)) return exit_usage;
   const bool quiet = args.json == "-";
   Mesh mesh;
   Result<Analysis> a = load_and_analyze(args.input, args.policies, mesh, quiet);
   if (!a) return fail(a.status());
+  if (Status s = use_candidates_for_size(args, mesh, *a, quiet); !s) return fail(s);
   RetargetOptions options;
   options.max_problem_size = args.max_problem;
   AnyRetargeter r(mesh, *a, args.labels, options);
@@ -83,6 +114,9 @@ int run_resize(const ResizeArgs& args) {
   nlohmann::json j = retarget_json(out->report);
   j["steps_principal"] = principal_steps_from_lattice(*a, *steps);
   j["label_space"] = args.labels;
+  j["promoted_offsets"] = nlohmann::json::array();
+  for (const int i : a->promoted)
+    j["promoted_offsets"].push_back(detail::vec3(a->normalization.to_model_offset(a->dominant[std::size_t(i)].offset)));
   j["file"] = args.output;
   if (!quiet) print_resize_summary(args, *a, *steps, out->report);
   if (!args.json.empty())

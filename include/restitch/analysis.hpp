@@ -11,6 +11,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
+#include <cmath>
 #include <cstddef>
 #include <map>
 #include <string>
@@ -25,6 +27,24 @@
 
 namespace restitch {
 
+/// A repeat the analysis found but does not resize along by itself (docs/method.md 1.10): a pair (two
+/// copies: the pattern test rejected it), or a significant offset that lost the choice of principal
+/// offsets to a stronger one within 60 degrees. `promote_offsets` (analyze.hpp) makes it principal.
+struct RepeatCandidate {
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();  ///< normalized; snapped onto the vertices where they repeat
+  int copies = 2;       ///< copies along the offset: 2 for a pair, else estimated from overlap(2t) / overlap(t)
+  std::string reason;   ///< "pair" or "parallel"
+  int dominant = -1;    ///< index in Analysis::dominant
+};
+
+/// The world axis an offset runs along: the one of its largest component (the lowest axis on a tie).
+inline int world_axis_of(const Eigen::Vector3d& v) {
+  int k = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::abs(v[a]) > std::abs(v[k])) k = a;
+  return k;
+}
+
 /// Everything the analysis found (see the file comment for units).
 struct Analysis {
   Normalization normalization;
@@ -35,6 +55,8 @@ struct Analysis {
   std::vector<Match> matches;              ///< one per feature; empty when the detector ignores matches
   std::vector<DominantOffset> dominant;    ///< ranked by votes; refined offsets, normalized
   std::vector<Eigen::Vector3d> principal;  ///< the real principal offsets only, normalized, in selection order
+  std::vector<RepeatCandidate> candidates; ///< repeats not resized along unless promoted, strongest first
+  std::vector<int> promoted;               ///< indices in `dominant` promoted on request, in request order
   PrincipalOffsets axes;                   ///< principal offsets completed by dummies, normalized
   Lattice lattice;                         ///< model units, dummies included
   Eigen::Matrix3d A_normalized = Eigen::Matrix3d::Identity();   ///< lattice axes, normalized
@@ -51,6 +73,25 @@ struct Analysis {
     for (const Eigen::Vector3d& v : principal) out.push_back(normalization.to_model_offset(v));
     return out;
   }
+  /// For a size change along the world axes marked in `change`: per such axis along which no principal
+  /// offset runs (world_axis_of), the index in `candidates` of the first candidate that runs along it,
+  /// in axis order; axes with neither are left out. The caller promotes them (promote_offsets) and says so.
+  std::vector<int> candidates_for_axes(const std::array<bool, 3>& change) const {
+    std::array<bool, 3> covered{{false, false, false}};
+    for (const Eigen::Vector3d& p : principal) covered[std::size_t(world_axis_of(p))] = true;
+    std::vector<int> out;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!change[std::size_t(axis)] || covered[std::size_t(axis)]) continue;
+      for (std::size_t c = 0; c < candidates.size(); ++c)
+        if (world_axis_of(candidates[c].offset) == axis) {
+          out.push_back(int(c));
+          break;
+        }
+    }
+    return out;
+  }
+  /// A candidate's offset in model units.
+  Eigen::Vector3d model_units(const RepeatCandidate& c) const { return normalization.to_model_offset(c.offset); }
 };
 
 }  // namespace restitch

@@ -62,6 +62,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/QR>
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -239,8 +240,6 @@ Status sample_features(const Mesh& mesh, const AnalysisOptions<D, M, Det>& optio
   return {};
 }
 
-/// Stage "lattice": significant dominant offsets reduced to fundamentals,
-/// greedy principal offsets, vertex snapping, then the lattice fit.
 /// Each significant dominant offset replaced by its fundamental period (offsets/fundamental.hpp).
 /// `vertices`: the unique vertex positions (normalized), or null when offsets are not snapped.
 template <class D, class M, class Det>
@@ -261,33 +260,101 @@ void reduce_to_fundamental_periods(const AnalysisOptions<D, M, Det>& options,
   }
 }
 
+/// True when `v` is, within `tolerance`, a non-zero integer combination of the linearly independent
+/// `basis` (the principal offsets), or k times `other` for an integer |k| >= 1.
+inline bool is_lattice_vector(const Eigen::Vector3d& v, const std::vector<Eigen::Vector3d>& basis,
+                              const Eigen::Vector3d* other, double tolerance) {
+  if (other && other->squaredNorm() > 0) {
+    const double k = std::round(v.dot(*other) / other->squaredNorm());
+    if (std::abs(k) >= 1 && (v - k * *other).norm() <= tolerance) return true;
+  }
+  if (basis.empty()) return false;
+  Eigen::MatrixXd B(3, Eigen::Index(basis.size()));
+  for (std::size_t k = 0; k < basis.size(); ++k) B.col(Eigen::Index(k)) = basis[k];
+  const Eigen::VectorXd c = B.colPivHouseholderQr().solve(v).array().round().matrix();
+  return c.cwiseAbs().maxCoeff() >= 1 && (B * c - v).norm() <= tolerance;
+}
+
+/// Analysis::candidates (docs/method.md 1.10): pairs, then significant offsets that are not
+/// principal, each snapped like the principal offsets and skipped when it is an integer combination of
+/// the principal offsets or a multiple of an earlier candidate. Ranked as Analysis::dominant.
+inline void collect_candidates(double tolerance, const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices,
+                               const SnapOptions& snap, Analysis& a) {
+  a.candidates.clear();
+  std::vector<Eigen::Vector3d> taken;  // the candidates so far
+  for (const bool pairs : {true, false})
+    for (std::size_t i = 0; i < a.dominant.size(); ++i) {
+      const DominantOffset& d = a.dominant[i];
+      if (d.promoted || (pairs ? !d.is_pair() : !d.significant)) continue;
+      Eigen::Vector3d v = d.offset;
+      if (vertices)
+        if (const SnapResult s = snap_offset(*vertices, v, snap); s.snapped) v = s.offset;
+      bool known = is_lattice_vector(v, a.principal, nullptr, tolerance);
+      for (const Eigen::Vector3d& e : taken) known = known || is_lattice_vector(v, {}, &e, tolerance);
+      if (known) continue;
+      taken.push_back(v);
+      RepeatCandidate c;
+      c.offset = canonical_sign(v);
+      c.dominant = int(i);
+      c.reason = pairs ? "pair" : "parallel";
+      // n copies give overlap(2t) / overlap(t) = (n - 2) / (n - 1), so n = (2 - r) / (1 - r).
+      const double r = d.overlap > 0 ? std::clamp(d.overlap_double / d.overlap, 0.0, 0.99) : 0.0;
+      c.copies = pairs ? 2 : std::max(3, int(std::lround((2 - r) / (1 - r))));
+      a.candidates.push_back(c);
+    }
+}
+
+/// The greedy principal offsets over the promoted offsets (first, in request order) and the
+/// significant ones reduced to fundamentals among themselves, vertex snapping, the lattice fit, and
+/// the candidates. `vertices`: the unique vertex positions (normalized), or null when offsets are not
+/// snapped.
 template <class D, class M, class Det>
-Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options, Analysis& a) {
-  Eigen::Matrix<double, Eigen::Dynamic, 3> P;  // unique vertex positions, normalized (offsets/snap.hpp)
-  if (options.snap_to_vertices) P = unique_normalized_vertices(mesh, a.normalization);
-  reduce_to_fundamental_periods(options, options.snap_to_vertices ? &P : nullptr, a);
-  std::vector<Eigen::Vector3d> significant;
-  std::vector<int> where;  // index in a.dominant of each significant offset
+Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
+                      const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices, Analysis& a) {
+  std::vector<Eigen::Vector3d> promoted, significant;
+  std::vector<int> where;  // index in a.dominant of each listed offset
+  for (int i : a.promoted) promoted.push_back(a.dominant[std::size_t(i)].offset), where.push_back(i);
   for (std::size_t i = 0; i < a.dominant.size(); ++i)
-    if (a.dominant[i].significant) significant.push_back(a.dominant[i].offset), where.push_back(int(i));
-  a.axes = select_principal_offsets(reduce_to_fundamentals(significant, options.dense_spacing), options.min_angle,
-                                    options.dummy_length);
+    if (a.dominant[i].significant && !a.dominant[i].promoted)
+      significant.push_back(a.dominant[i].offset), where.push_back(int(i));
+  for (const Eigen::Vector3d& v : reduce_to_fundamentals(significant, options.dense_spacing)) promoted.push_back(v);
+  a.axes = select_principal_offsets(promoted, options.min_angle, options.dummy_length);
   for (int& s : a.axes.source)
     if (s >= 0) s = where[std::size_t(s)];  // PrincipalOffsets::source indexes Analysis::dominant
-  if (options.snap_to_vertices && a.axes.real_count > 0) {
-    for (int k = 0; k < a.axes.real_count; ++k) {
-      const SnapResult snapped = snap_offset(P, a.axes.axes[std::size_t(k)], options.snap);
-      if (snapped.snapped) a.axes.axes[std::size_t(k)] = snapped.offset;
-    }
+  a.principal.clear();
+  for (int k = 0; k < a.axes.real_count; ++k) {
+    Eigen::Vector3d& axis = a.axes.axes[std::size_t(k)];
+    if (vertices)
+      if (const SnapResult snapped = snap_offset(*vertices, axis, options.snap); snapped.snapped) axis = snapped.offset;
+    a.principal.push_back(axis);
   }
-  for (int k = 0; k < a.axes.real_count; ++k) a.principal.push_back(a.axes.axes[std::size_t(k)]);
   Result<LatticeFit> fit = fit_lattice(mesh, a.normalization, a.dense, a.axes, options.lattice);
   if (!fit) return fit.status();
   a.lattice = fit->lattice;
   a.A_normalized = fit->A_normalized;
   a.origin_normalized = fit->origin_normalized;
   a.phase = fit->phase;
+  collect_candidates(options.dense_spacing, vertices, options.snap, a);
   return {};
+}
+
+/// Stage "lattice": significant dominant offsets reduced to their fundamental periods, then select_and_fit.
+template <class D, class M, class Det>
+Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options, Analysis& a) {
+  Eigen::Matrix<double, Eigen::Dynamic, 3> P;  // unique vertex positions, normalized (offsets/snap.hpp)
+  if (options.snap_to_vertices) P = unique_normalized_vertices(mesh, a.normalization);
+  reduce_to_fundamental_periods(options, options.snap_to_vertices ? &P : nullptr, a);
+  return select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, a);
+}
+
+/// The vertex features of an analysis (features [sampled_features, end)): the ICP anchors.
+inline PointSet vertex_anchors(const Analysis& a) {
+  PointSet v;
+  const Eigen::Index first = Eigen::Index(a.sampled_features), n = a.features.size() - first;
+  if (n <= 0) return v;
+  v.points = a.features.points.bottomRows(n);
+  v.normals = a.features.normals.bottomRows(n);
+  return v;
 }
 
 }  // namespace detail
@@ -346,6 +413,71 @@ Result<Analysis> analyze(const Mesh& mesh, const AnalysisOptions<D, M, Det>& opt
   RESTITCH_TRY(detail::analysis_stage("lattice", progress, timings,
                                       [&] { return detail::fit_principal_lattice(mesh, options, a); }));
   return a;
+}
+
+/// Makes `offsets` (model units, at most three, pairwise at least `options.min_angle` apart) the first
+/// principal offsets of `a`, which `analyze(mesh, options)` computed, and refits the lattice
+/// (docs/method.md 1.10). Each offset is refined by the same ICP as a dominant offset, starting from the
+/// value given, so it need not be typed exactly; a refined offset that lands within the overlap radius
+/// of a dominant offset (or of its negative) promotes that one, any other is added to
+/// `Analysis::dominant` with its tests run, for the report. The promoted offsets are resized along
+/// whatever their tests say: promotion is the user's decision. Errors (invalid_argument, `a` unchanged):
+/// more than three offsets, a zero or non-finite one, two closer than min_angle, or one whose
+/// refinement slides onto the trivial self-match (no repeat there). Replaces an earlier promotion.
+/// Cost: one ICP refinement and test run per offset, plus the lattice fit.
+template <class D, class M, class Det>
+Status promote_offsets(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
+                       const std::vector<Eigen::Vector3d>& offsets, Analysis& a) {
+  RESTITCH_TRY(detail::check_analysis_options(options));
+  if (offsets.size() > 3) return error(StatusCode::invalid_argument, "at most three offsets can be made principal");
+  for (std::size_t i = 0; i < offsets.size(); ++i) {
+    if (!offsets[i].allFinite() || !(offsets[i].norm() > 0))
+      return error(StatusCode::invalid_argument, "offset " + std::to_string(i + 1) + " is zero or not finite");
+    for (std::size_t j = 0; j < i; ++j)
+      if (!far_enough_apart(offsets[i], offsets[j], options.min_angle))
+        return error(StatusCode::invalid_argument, "offsets " + std::to_string(j + 1) + " and " +
+                                                       std::to_string(i + 1) + " are too close in direction");
+  }
+  if (a.dense.size() == 0) return error(StatusCode::invalid_argument, "the analysis has no samples");
+  Analysis b = a;
+  for (const int i : b.promoted) b.dominant[std::size_t(i)].promoted = false;
+  b.promoted.clear();
+  IcpOptions icp = SignificanceOptions{}.icp;
+  icp.spacing = options.dense_spacing;
+  const PointSet anchors = detail::vertex_anchors(b);
+  const SelfAligner aligner(b.dense, icp, anchors.size() ? &anchors : nullptr);
+  const double radius = icp.overlap_radius();
+  for (std::size_t i = 0; i < offsets.size(); ++i) {
+    const Eigen::Vector3d t = aligner.refine(b.normalization.to_normalized_offset(offsets[i])).offset;
+    if (!(t.norm() > radius))
+      return error(StatusCode::invalid_argument, "offset " + std::to_string(i + 1) +
+                                                     " is no repeat: refined, it slides onto the model itself");
+    int found = -1;
+    for (std::size_t k = 0; k < b.dominant.size() && found < 0; ++k)
+      if ((b.dominant[k].offset - t).norm() <= radius || (b.dominant[k].offset + t).norm() <= radius) found = int(k);
+    if (found < 0) {  // a new dominant offset, tested like the detector's
+      const PointSet no_features;
+      const std::vector<Match> no_matches;
+      const OffsetEvidence evidence{b.dense,   no_features, no_matches, options.dense_spacing,
+                                    0.0,       anchors.size() ? &anchors : nullptr};
+      std::vector<DominantOffset> added;
+      RESTITCH_TRY(refine_and_test(evidence, {OffsetCandidate{t, 0, 0}}, SignificanceOptions{}, {}, added));
+      if (added.empty()) return error(StatusCode::internal, "the promoted offset was not refined");
+      found = int(b.dominant.size());
+      b.dominant.push_back(added.front());
+    }
+    if (b.dominant[std::size_t(found)].promoted)
+      return error(StatusCode::invalid_argument, "offsets " + std::to_string(i + 1) + " and an earlier one are the same");
+    b.dominant[std::size_t(found)].promoted = true;
+    b.promoted.push_back(found);
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  Eigen::Matrix<double, Eigen::Dynamic, 3> P;
+  if (options.snap_to_vertices) P = detail::unique_normalized_vertices(mesh, b.normalization);
+  RESTITCH_TRY(detail::select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, b));
+  b.timings_ms["promotion"] = detail::elapsed_ms(t0);
+  a = std::move(b);
+  return {};
 }
 
 }  // namespace restitch

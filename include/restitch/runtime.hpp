@@ -83,6 +83,11 @@ inline Result<Analysis> analyze_named(const Mesh& mesh, const std::string& descr
   return analyze_named(mesh, descriptor, matcher, "histogram", progress);
 }
 
+/// promote_offsets (analyze.hpp) for an analysis made by analyze_named, whose options are the defaults.
+inline Status promote_offsets_named(const Mesh& mesh, const std::vector<Eigen::Vector3d>& offsets, Analysis& a) {
+  return promote_offsets(mesh, AnalysisOptions<>{}, offsets, a);
+}
+
 /// A Retargeter whose label space is chosen at run time.
 class AnyRetargeter {
  public:

@@ -5,8 +5,15 @@
 // Lengths are in model units.
 //
 // analysis_json: scale (normalized units per model unit), features,
-//   dominant_offsets [{offset [x,y,z], votes, overlap, significant, divisor}]
-//   (divisor k >= 2: the peak was k periods long and offset is the period),
+//   dominant_offsets [{offset [x,y,z], votes, overlap, significant, divisor,
+//   promoted, tests [{name, value, threshold, at_most, passed}], rejected_by}]
+//   (divisor k >= 2: the peak was k periods long and offset is the period;
+//   tests in the order they ran, see offsets/detector.hpp: votes is a count,
+//   double_drift is in dense sample spacings, the others are shares of the
+//   dense surface or their ratios, unitless; rejected_by names the failed
+//   test, null when none failed; promoted: made principal on request),
+//   candidates [{offset [x,y,z], copies, reason ("pair" | "parallel"),
+//   dominant (index in dominant_offsets)}] (docs/method.md 1.10),
 //   principal_offsets [[x,y,z]...] in order, dummy_directions [[x,y,z]...],
 //   lattice_axes [[x,y,z] x3] (the principal offsets in order, then the dummy
 //   directions), resizable [bool x3] (per lattice axis: false for a dummy),
@@ -27,6 +34,13 @@ namespace restitch {
 namespace detail {
 inline nlohmann::json vec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 inline nlohmann::json arr3(const Eigen::Array3i& v) { return {v[0], v[1], v[2]}; }
+inline nlohmann::json tests_json(const DominantOffset& d) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const OffsetTest& t : d.tests)
+    out.push_back(
+        {{"name", t.name}, {"value", t.value}, {"threshold", t.threshold}, {"at_most", t.at_most}, {"passed", t.passed}});
+  return out;
+}
 }  // namespace detail
 
 inline nlohmann::json analysis_json(const Analysis& a) {
@@ -39,7 +53,17 @@ inline nlohmann::json analysis_json(const Analysis& a) {
                                      {"votes", d.votes},
                                      {"overlap", d.overlap},
                                      {"significant", d.significant},
-                                     {"divisor", d.divisor}});
+                                     {"divisor", d.divisor},
+                                     {"promoted", d.promoted},
+                                     {"tests", detail::tests_json(d)},
+                                     {"rejected_by", d.failed_test() ? nlohmann::json(d.failed_test()->name)
+                                                                     : nlohmann::json(nullptr)}});
+  j["candidates"] = nlohmann::json::array();
+  for (const RepeatCandidate& c : a.candidates)
+    j["candidates"].push_back({{"offset", detail::vec3(a.model_units(c))},
+                               {"copies", c.copies},
+                               {"reason", c.reason},
+                               {"dominant", c.dominant}});
   j["principal_offsets"] = nlohmann::json::array();
   for (const Eigen::Vector3d& v : a.principal_model_units()) j["principal_offsets"].push_back(detail::vec3(v));
   j["dummy_directions"] = nlohmann::json::array();

@@ -113,6 +113,23 @@ struct OffsetEvidence {
   const PointSet* anchors = nullptr;  ///< mesh vertices (normalized, with normals) as exact ICP anchors; may be null
 };
 
+/// One significance test as run on a dominant offset, for reports (the JSON's
+/// `tests`, `restitch analyze --verbose`): passed when value >= threshold, or
+/// value <= threshold for the tests marked `at_most` (the drift).
+struct OffsetTest {
+  std::string name;  ///< votes, overlap, contrast, double_drift, repeat, contrast_double, axis_contrast_double
+  double value = 0;
+  double threshold = 0;
+  bool at_most = false;
+  bool passed = false;
+};
+
+/// The tests that tell a pattern from a pair (the header comment's last group): an offset that passes
+/// votes, overlap and contrast and fails only one of these is a pair, reported as a candidate.
+inline bool is_pattern_test(const std::string& name) {
+  return name == "double_drift" || name == "repeat" || name == "contrast_double" || name == "axis_contrast_double";
+}
+
 /// A dominant offset: a peak (of the histogram, or of S_T) after refinement.
 struct DominantOffset {
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();      ///< refined, normalized
@@ -130,6 +147,23 @@ struct DominantOffset {
   /// The peak was `divisor` periods long and `offset` is its fundamental
   /// period (offsets/fundamental.hpp, applied by the analysis); 1: as found.
   int divisor = 1;
+  /// The significance tests in the order they ran; the run stops at the first failure, so a
+  /// rejected offset's last entry is the test that rejected it.
+  std::vector<OffsetTest> tests;
+  /// Made principal on request (promote_offsets, `--offsets`), whatever its tests say.
+  bool promoted = false;
+
+  /// The test that rejected this offset, or null when every test that ran passed.
+  const OffsetTest* failed_test() const {
+    for (const OffsetTest& t : tests)
+      if (!t.passed) return &t;
+    return nullptr;
+  }
+  /// Passed votes, overlap and contrast, and failed a pattern test: two copies, not a pattern.
+  bool is_pair() const {
+    const OffsetTest* f = failed_test();
+    return f && is_pattern_test(f->name);
+  }
 };
 
 /// A detector's answer.
@@ -231,21 +265,29 @@ inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<Offset
     d.bin_votes = todo[k].bin_votes;
     d.overlap = r.overlap;
     d.iterations = r.iterations;
-    // Significance, cheapest tests first (later fields stay 0 once one fails).
+    // Significance, cheapest tests first; the run stops at the first failure (later fields stay 0).
+    const auto test = [&d](const char* name, double value, double threshold, bool at_most = false) {
+      const bool passed = at_most ? value <= threshold : value >= threshold;
+      d.tests.push_back({name, value, threshold, at_most, passed});
+      return passed;
+    };
     const auto kink = [&](const Eigen::Vector3d& t, double at_t) {
       const Eigen::Vector3d step = t.normalized() * (2 * radius);
       return at_t - 0.5 * (aligner.overlap(t - step) + aligner.overlap(t + step));
     };
-    bool ok = d.votes >= tests.min_votes && d.overlap >= tests.min_overlap;
-    if (ok) d.contrast = kink(r.offset, r.overlap), ok = d.contrast >= tests.min_contrast;
+    bool ok = test("votes", double(d.votes), double(tests.min_votes)) &&
+              test("overlap", d.overlap, tests.min_overlap);
+    if (ok) d.contrast = kink(r.offset, r.overlap), ok = test("contrast", d.contrast, tests.min_contrast);
     if (ok) {
       const RefinedOffset r2 = aligner.refine(2 * r.offset);
       d.double_drift = (r2.offset - 2 * r.offset).norm();
       d.overlap_double = aligner.overlap(2 * r.offset);
-      ok = d.double_drift <= tests.max_double_drift * ev.dense_spacing &&
-           d.overlap_double >= tests.min_repeat_ratio * d.overlap;
+      ok = test("double_drift", d.double_drift / ev.dense_spacing, tests.max_double_drift, true) &&
+           test("repeat", d.overlap > 0 ? d.overlap_double / d.overlap : 1.0, tests.min_repeat_ratio);
     }
-    if (ok) d.contrast_double = kink(2 * r.offset, d.overlap_double), ok = d.contrast_double >= tests.min_contrast;
+    if (ok)
+      d.contrast_double = kink(2 * r.offset, d.overlap_double),
+      ok = test("contrast_double", d.contrast_double, tests.min_contrast);
     if (ok && tests.axis_contrast) {
       d.axis_contrast_double = d.contrast_double;
       for (int axis = 0; axis < 3; ++axis) {
@@ -254,7 +296,7 @@ inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<Offset
             d.axis_contrast_double,
             d.overlap_double - 0.5 * (aligner.overlap(2 * r.offset - step) + aligner.overlap(2 * r.offset + step)));
       }
-      ok = d.axis_contrast_double >= tests.min_contrast;
+      ok = test("axis_contrast_double", d.axis_contrast_double, tests.min_contrast);
     }
     d.significant = ok;
     out.push_back(d);
