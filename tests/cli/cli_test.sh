@@ -112,6 +112,29 @@ expect 0 "$bin" resize "$work/shelf.glb" -o "$work/shelf-ac+.glb" --steps 1,1 --
 validate "$work/shelf-ac+.glb"
 expect 2 "$bin" analyze "$work/shelf.glb" --detector fourier
 
+# Candidates: a 2-pin header has no principal offset but its pair is a candidate; --verbose explains
+# the rejection; --size along x uses the candidate and says so; --offsets promotes it explicitly.
+"$bin" sample pin_header --pins 2 -o "$work/pins2.glb" >/dev/null
+expect 0 "$bin" analyze "$work/pins2.glb" --verbose --json "$work/pins2.json"
+grep -q "candidate 1: (2.54, 0, 0).*a pair (2 copies).*--offsets 2.54,0,0" "$work/out" && ok || bad "analyze: the pair candidate is not listed: $(cat "$work/out")"
+grep -q "rejected by repeat" "$work/out" && ok || bad "analyze --verbose: no rejection explained"
+grep -Eq "repeat +0\.[0-9]+ >= 0\.25 +FAILED" "$work/out" && ok || bad "analyze --verbose: no test line with value and threshold"
+node -e '
+const j = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
+const c = j.candidates[0], d = j.dominant_offsets[c.dominant];
+if (j.principal_offsets.length !== 0 || c.copies !== 2 || c.reason !== "pair" || Math.abs(c.offset[0] - 2.54) > 1e-3) process.exit(1);
+if (d.rejected_by !== "repeat" || d.tests.at(-1).passed || !(d.tests.at(-1).value < d.tests.at(-1).threshold)) process.exit(1);' "$work/pins2.json" && ok || bad "analyze --json: candidates or tests wrong in $work/pins2.json"
+expect 0 "$bin" resize "$work/pins2.glb" -o "$work/pins2to3.glb" --size 8.22,0,0 --json "$work/pins2to3.json"
+grep -q "no principal offset runs along x: using candidate 1" "$work/out" && ok || bad "resize --size: the candidate fallback is not reported"
+[ "$(json_field size_out < "$work/pins2to3.json" | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8"))[0].toFixed(3))')" = 8.220 ] && ok || bad "resize --size along a candidate: wrong size"
+validate "$work/pins2to3.glb"
+expect 0 "$bin" resize "$work/pins2.glb" -o "$work/pins2to4.glb" --offsets 2.5,0,0 --steps 2 --json "$work/pins2to4.json"
+[ "$(json_field size_out < "$work/pins2to4.json" | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8"))[0].toFixed(3))')" = 10.760 ] && ok || bad "resize --offsets 2.5,0,0 --steps 2: not 4 pins long"
+expect_error 2 "triples" "$bin" analyze "$work/pins2.glb" --offsets 1,2
+expect_error 5 "zero" "$bin" resize "$work/pins2.glb" -o "$work/x.glb" --offsets 0,0,0 --steps 1
+expect_error 5 "no repeat" "$bin" resize "$work/pins2.glb" -o "$work/x.glb" --offsets 0.3,0,0 --steps 1
+[ ! -e "$work/x.glb" ] && ok || bad "a refused --offsets left a file"
+
 # describe: a tiny point set, SHOT and FPFH rows in input order.
 printf '0 0 0 0 0 1\n0.1 0 0 0 0 1\n0 0.1 0 0 0 1\n0.1 0.1 0 0 0 1\n0.05 0.05 0.05 0 1 0\n5 5 5 0 0 1\n' > "$work/p.xyzn"
 expect 0 "$bin" describe "$work/p.xyzn" --descriptor shot --radius 0.3 -o "$work/p-shot.csv"

@@ -1,0 +1,146 @@
+// Tests for the explanations and candidates of an analysis (docs/method.md 1.10): the significance tests
+// each dominant offset records, 2-copy repeats reported as candidates, and promote_offsets.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "restitch/analyze.hpp"
+#include "restitch/families/families.hpp"
+#include "restitch/retarget.hpp"
+
+#include "support/sampled_shapes.hpp"
+
+using namespace restitch;
+using Eigen::Vector3d;
+using namespace restitch::test;
+
+namespace {
+
+// The smallest distance from each row of `from` to a row of `to`, maximised (brute force).
+double max_nearest(const MatrixX3f& from, const MatrixX3f& to) {
+  double worst = 0;
+  for (Eigen::Index i = 0; i < from.rows(); ++i)
+    worst = std::max(worst, double((to.rowwise() - from.row(i)).rowwise().norm().minCoeff()));
+  return worst;
+}
+
+const families::SampleModel& two_pins() {
+  static const families::SampleModel m = *families::generate("pin_header", {{"pins", 2}});
+  return m;
+}
+const Analysis& two_pins_analysis() {
+  static const Analysis a = *analyze(two_pins().mesh);
+  return a;
+}
+
+}  // namespace
+
+TEST_CASE("every dominant offset records the tests it ran, and significance is exactly all of them passing",
+          "[candidates][analysis]") {
+  for (const char* family : {"bookshelf", "fence", "pin_header"}) {
+    INFO(family);
+    const Result<Analysis> a = analyze(families::generate(family)->mesh);
+    REQUIRE(a.ok());
+    REQUIRE(!a->dominant.empty());
+    for (const DominantOffset& d : a->dominant) {
+      REQUIRE(!d.tests.empty());
+      CHECK(d.tests.front().name == "votes");
+      for (std::size_t k = 0; k < d.tests.size(); ++k) {
+        const OffsetTest& t = d.tests[k];
+        CHECK(t.passed == (t.at_most ? t.value <= t.threshold : t.value >= t.threshold));
+        if (k + 1 < d.tests.size()) CHECK(t.passed);  // the run stops at the first failure
+      }
+      // The histogram detector runs six tests; significant exactly when all six ran and passed.
+      CHECK(d.significant == (d.failed_test() == nullptr && d.tests.size() == 6));
+      if (d.failed_test()) CHECK(d.failed_test() == &d.tests.back());
+    }
+  }
+}
+
+TEST_CASE("a 2-pin header: no principal offset, its pair is a candidate rejected by the repeat test",
+          "[candidates][analysis]") {
+  const Analysis& a = two_pins_analysis();
+  const Vector3d pitch = two_pins().generators[0];
+  CHECK(a.principal.empty());
+  REQUIRE(!a.candidates.empty());
+  const RepeatCandidate& c = a.candidates.front();
+  CHECK(recovered(pitch, {a.model_units(c)}, 1e-4, 0.1));
+  CHECK(c.copies == 2);
+  CHECK(c.reason == "pair");
+  REQUIRE(c.dominant >= 0);
+  const DominantOffset& d = a.dominant[std::size_t(c.dominant)];
+  CHECK(d.is_pair());
+  REQUIRE(d.failed_test());
+  CHECK(d.failed_test()->name == "repeat");
+  // Two copies: shifting by 2 pitches maps (almost) nothing, far below a quarter of overlap(pitch).
+  CHECK(d.failed_test()->value < 0.25);
+  // Only one candidate per repeat: its negative and multiples are not listed again.
+  for (std::size_t k = 1; k < a.candidates.size(); ++k)
+    CHECK(!recovered(pitch, {a.model_units(a.candidates[k])}, 0.01, 1.0));
+  // A size change along x uses that candidate (the first one along x); none is asked for when no
+  // size change is, or along an axis a principal offset already runs along (the 6-pin header's x).
+  CHECK(a.candidates_for_axes({{true, false, false}}) == std::vector<int>{0});
+  CHECK(a.candidates_for_axes({{false, false, false}}).empty());
+  const Result<Analysis> six = analyze(families::generate("pin_header")->mesh);
+  REQUIRE(six.ok());
+  CHECK(six->candidates_for_axes({{true, false, false}}).empty());
+}
+
+TEST_CASE("promoting the 2-pin pair resizes it into the real 3- and 4-pin headers", "[candidates][retarget]") {
+  const families::SampleModel& two = two_pins();
+  Analysis a = two_pins_analysis();
+  // The offset need not be typed exactly: 2.5 refines to the 2.54 mm pitch.
+  REQUIRE(promote_offsets(two.mesh, AnalysisOptions<>{}, {Vector3d(2.5, 0, 0)}, a).ok());
+  REQUIRE(a.principal.size() == 1);
+  CHECK(recovered(two.generators[0], a.principal_model_units(), 1e-5, 0.01));
+  REQUIRE(a.promoted.size() == 1);
+  CHECK(a.dominant[std::size_t(a.promoted[0])].promoted);
+  for (const RepeatCandidate& c : a.candidates)  // the pair is now principal, no longer a candidate
+    CHECK(!recovered(two.generators[0], {a.model_units(c)}, 0.01, 1.0));
+  Retargeter<> r(two.mesh, a);
+  REQUIRE(r.status().ok());
+  for (const int more : {1, 2}) {
+    INFO(more << " more pins");
+    const auto want = families::generate("pin_header", {{"pins", 2 + more}});
+    const auto out = r.retarget(*lattice_steps_from_principal(a, {more}));
+    REQUIRE(out.ok());
+    CHECK(validate(out->mesh).ok());
+    const BoundingBox box = bounding_box(out->mesh), real = bounding_box(want->mesh);
+    CHECK((box.min - real.min).norm() < 1e-4);
+    CHECK((box.max - real.max).norm() < 1e-4);
+    // Every vertex of the real part is in the result (the seams' quality is docs/method.md 3).
+    CHECK(max_nearest(want->mesh.V, out->mesh.V) < 1e-4);
+  }
+}
+
+TEST_CASE("promote_offsets: an empty list restores the detected offsets; bad requests change nothing",
+          "[candidates][analysis]") {
+  const families::SampleModel sample = *families::generate("pin_header");
+  const Analysis detected = *analyze(sample.mesh);
+  REQUIRE(detected.principal.size() == 1);
+  Analysis a = detected;
+  const std::vector<Vector3d> bad[] = {
+      {Vector3d(1, 0, 0), Vector3d(0, 1, 0), Vector3d(0, 0, 1), Vector3d(1, 1, 1)},  // more than three
+      {Vector3d::Zero()},
+      {Vector3d(std::nan(""), 0, 0)},
+      {Vector3d(2.54, 0, 0), Vector3d(5.08, 0.1, 0)},  // parallel
+      {Vector3d(0.05, 0, 0)},                          // slides onto the model itself
+  };
+  for (const auto& offsets : bad) {
+    const Status s = promote_offsets(sample.mesh, AnalysisOptions<>{}, offsets, a);
+    CHECK(s.code() == StatusCode::invalid_argument);
+    CHECK(a.principal == detected.principal);
+    CHECK(a.dominant.size() == detected.dominant.size());
+    CHECK(a.promoted.empty());
+  }
+  // Promote twice the pitch (a longer module), then go back.
+  REQUIRE(promote_offsets(sample.mesh, AnalysisOptions<>{}, {Vector3d(5.08, 0, 0)}, a).ok());
+  REQUIRE(a.principal.size() == 1);
+  CHECK(recovered(Vector3d(5.08, 0, 0), a.principal_model_units(), 1e-4, 0.1));
+  REQUIRE(promote_offsets(sample.mesh, AnalysisOptions<>{}, {}, a).ok());
+  CHECK(a.principal == detected.principal);
+  CHECK(a.promoted.empty());
+  for (const DominantOffset& d : a.dominant) CHECK(!d.promoted);
+}
