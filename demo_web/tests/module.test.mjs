@@ -8,6 +8,8 @@ import path from 'node:path';
 import { createRequire } from 'node:module';
 import { fileURLToPath } from 'node:url';
 import { loadRestitch } from '../src/restitch.js';
+import { WorkerClient } from '../src/worker-client.js';
+import { Session as PageSession } from '../src/session.js';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const require = createRequire(path.join(here, '../package.json'));
@@ -326,6 +328,44 @@ test('a refused promotion leaves the analysis and the last result as they were',
   } finally {
     s.delete();
   }
+});
+
+// ../src/worker.js run in this process: its `self` is a stand-in whose postMessage answers the one fake Worker
+// the client made (asynchronously, as a real worker does).
+async function inProcessWorker() {
+  let current = null;
+  globalThis.self = { postMessage: (data) => setImmediate(() => current && current.onmessage({ data })) };
+  await import('../src/worker.js');
+  const handle = globalThis.self.onmessage;
+  return () => {
+    current = { postMessage: (data) => setImmediate(() => handle({ data })), terminate: () => { current = null; } };
+    return current;
+  };
+}
+
+test('the page\'s session through worker.js: the 2-pin header\'s candidate promoted, a resize to 3 pins', async () => {
+  const session = new PageSession(new WorkerClient(await inProcessWorker()),
+                                  { policy: () => ({ descriptor: 'shot', matcher: 'brute_force', detector: 'histogram' }) });
+  const catalog = await session.start();
+  assert.deepEqual(catalog.policies.detectors, ['histogram', 'autocorrelation']);
+  await session.load({ sample: { name: 'pin_header', params: { pins: 2 } } });
+  assert.equal(session.state.status, 'error');
+  assert.match(session.state.error, /candidate/);
+  const c = session.state.analysis.candidates.find((k) => isPitch(k.offset));
+  assert.ok(c, JSON.stringify(session.state.analysis.candidates));
+  const detected = session.state.analysis;
+  await assert.rejects(session.promote([c.offset, c.offset]), /too close in direction/);
+  assert.equal(session.state.analysis, detected, 'a refused promotion changes nothing');
+  const a = await session.promote([c.offset]);
+  assert.ok(isPitch(a.principal_offsets[0]));
+  assert.equal(session.state.status, 'ready');
+  const shown = await session.resize([1, 0, 0], 'lattice');
+  assert.ok(near(xSize(session.state.retarget.mesh), 8.22, 1e-3), `${xSize(session.state.retarget.mesh)} mm`);
+  assert.ok(shown.triangles > session.state.model.info.triangles);
+  const back = await session.promote([]);
+  assert.deepEqual(back.principal_offsets, []);
+  assert.equal(session.state.status, 'error');
+  await assert.rejects(session.resize([1, 0, 0], 'lattice'), /repetition/);
 });
 
 test('the autocorrelation detector is a compiled choice; an unknown detector is refused in words', () => {
