@@ -3,7 +3,7 @@
 // slider, call setSteps, switch views, download the .glb and validate it, open files from disk (one made by
 // the module, one from ../shared/models when present, one broken), load the 2-pin header (no principal offset,
 // its pitch a pair candidate): hover its peak in the histogram, click the candidate, move the slider to 3 pins,
-// undo, click the peak; check the console stayed clean, and save demo_web/screenshot.png. Prints one line per check and ends with "e2e: N passed, M failed".
+// undo, click the peak, switch the detector; check the console stayed clean, and save demo_web/screenshot.png. Prints one line per check and ends with "e2e: N passed, M failed".
 // Usage: node demo_web/tests/e2e.mjs  (exit code 1 on any failure)
 import fs from 'node:fs';
 import os from 'node:os';
@@ -340,6 +340,16 @@ try {
     const rep = await page.evaluate(() => window.restitchDemo.report);
     assert(Math.abs(rep.size_out[0] - (5.68 + 2 * 2.54)) < 1e-3, `size out ${rep.size_out}`);
     return `4 pins: ${rep.size_out[0].toFixed(2)} mm, ${r.triangles} triangles`;
+  });
+
+  await attempt('the detector choice re-analyses with autocorrelation (the promotion is dropped)', async () => {
+    const detector = page.locator('.lil-gui .lil-controller.lil-option').filter({ hasText: 'detector' }).locator('select');
+    await settleAfter(() => detector.selectOption({ label: 'autocorrelation' }));
+    const a = await page.evaluate(() => window.restitchDemo.analysis);
+    assert(a.detector === 'autocorrelation', `detector ${a.detector}`);
+    assert((await page.evaluate(() => window.restitchDemo.promoted)).length === 0, 'the old promotion is kept');
+    await settleAfter(() => detector.selectOption({ label: 'histogram' }));
+    return `${a.principal_offsets.length} principal offsets, ${a.candidates.length} candidates`;
   });
 
   await attempt('the console has no errors', async () => {
