@@ -6,11 +6,19 @@
 //
 //   version() -> "restitch X.Y.Z"
 //   samples() -> [{name, description, units, parameters: [{name, value, min, max, integer, help}]}]
-//   policies() -> {descriptors: [...], matchers: [...], label_spaces: [...]}   (each list: the default first)
+//   policies() -> {descriptors: [...], matchers: [...], detectors: [...], label_spaces: [...]}
+//                                         (each list: the default first)
 //   new Session()
 //     .loadGltf(Uint8Array)              -> {ok, vertices, triangles, bbox_min, bbox_max, warnings[]} | error
 //     .loadSample(name, {param: value})  -> the same plus generators (the sample's true repeats) | error
-//     .analyze(descriptor, matcher, onProgress(stage, fraction)) -> {ok, analysis, extras} | error
+//     .analyze(descriptor, matcher, [detector,] onProgress(stage, fraction)) -> {ok, analysis, extras} | error
+//                                           (detector: "histogram" when not given)
+//     .promote([[x, y, z], ...])         -> {ok, analysis, extras} | error   (model units, at most three)
+//                                           makes these offsets the first principal offsets, in order, and
+//                                           refits the lattice (restitch::promote_offsets_named); [] goes back
+//                                           to the detected ones. Resize steps then follow the new principal
+//                                           offsets. A refused request leaves the analysis and the last
+//                                           result as they were.
 //     .retarget(s1, s2, s3, labelSpace)  -> {ok, report, grid, label_shifts, cell_labels, face_labels} | error
 //     .mesh(which)                       -> {ok, positions, normals?, uvs?, colors?, indices, groups[]} | error
 //                                           (which: "input" | "result")
@@ -133,6 +141,11 @@ class Session {
   }
 
   val analyze(const std::string& descriptor, const std::string& matcher, val on_progress) {
+    return analyze_with(descriptor, matcher, "histogram", on_progress);
+  }
+
+  val analyze_with(const std::string& descriptor, const std::string& matcher, const std::string& detector,
+                   val on_progress) {
     if (!input_) return status_object(error(StatusCode::invalid_argument, "load a model before analysing it"));
     // Report at most every whole percent per stage: each report is a postMessage.
     std::string last_stage;
@@ -149,14 +162,38 @@ class Session {
     });
     analysis_.reset();
     clear_retarget();
-    Result<Analysis> a = analyze_named(*input_, descriptor, matcher, progress);
+    Result<Analysis> a = analyze_named(*input_, descriptor, matcher, detector, progress);
     if (!a) return status_object(a.status());
     analysis_ = std::make_unique<Analysis>(std::move(*a));
-    val out = val::object();
-    out.set("ok", true);
-    out.set("analysis", js_object(analysis_json(*analysis_)));
-    out.set("extras", analysis_extras(*analysis_));
-    return out;
+    return analysis_answer(*analysis_);
+  }
+
+  val promote(val offsets) {
+    if (!input_ || !analysis_)
+      return status_object(error(StatusCode::invalid_argument, "analyse the model before choosing its offsets"));
+    if (!val::global("Array").call<bool>("isArray", offsets))
+      return status_object(error(StatusCode::invalid_argument, "the offsets must be an array of [x, y, z]"));
+    std::vector<Eigen::Vector3d> list;
+    const int n = offsets["length"].as<int>();
+    for (int i = 0; i < n; ++i) {
+      const val v = offsets[i];
+      const bool is3 = val::global("Array").call<bool>("isArray", v) && v["length"].as<int>() == 3;
+      Eigen::Vector3d x;
+      for (int k = 0; is3 && k < 3; ++k) {
+        if (v[k].typeOf().as<std::string>() != "number")
+          return status_object(error(StatusCode::invalid_argument, "offset " + std::to_string(i + 1) +
+                                                                       " is not three numbers"));
+        x(k) = v[k].as<double>();
+      }
+      if (!is3)
+        return status_object(
+            error(StatusCode::invalid_argument, "offset " + std::to_string(i + 1) + " is not three numbers"));
+      list.push_back(x);
+    }
+    // On failure promote_offsets_named leaves *analysis_ untouched: the retargeter and result stay valid.
+    if (Status s = promote_offsets_named(*input_, list, *analysis_); !s) return status_object(s);
+    clear_retarget();  // it refers to the analysis as it was
+    return analysis_answer(*analysis_);
   }
 
   val retarget(int s1, int s2, int s3, const std::string& label_space) {
@@ -230,6 +267,14 @@ class Session {
     const BoundingBox box = bounding_box(*input_);
     out.set("bbox_min", vec3(box.min));
     out.set("bbox_max", vec3(box.max));
+    return out;
+  }
+
+  static val analysis_answer(const Analysis& a) {
+    val out = val::object();
+    out.set("ok", true);
+    out.set("analysis", js_object(analysis_json(a)));
+    out.set("extras", analysis_extras(a));
     return out;
   }
 
@@ -361,6 +406,7 @@ val policies() {
   val o = val::object();
   o.set("descriptors", string_array(descriptor_names()));
   o.set("matchers", string_array(matcher_names()));
+  o.set("detectors", string_array(detector_names()));
   o.set("label_spaces", string_array(label_space_names()));
   return o;
 }
@@ -377,6 +423,8 @@ EMSCRIPTEN_BINDINGS(restitch_web) {
       .function("loadGltf", &Session::load_gltf)
       .function("loadSample", &Session::load_sample)
       .function("analyze", &Session::analyze)
+      .function("analyze", &Session::analyze_with)
+      .function("promote", &Session::promote)
       .function("retarget", &Session::retarget)
       .function("mesh", &Session::mesh)
       .function("saveGlb", &Session::save_glb);

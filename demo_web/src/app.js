@@ -4,8 +4,11 @@
 // there), ./session.js is the load / analyse / resize state machine, ./view.js the three.js view,
 // ./layers.js makes its objects, ./panel.js the controls, figures and messages. This file adds the file
 // picker, drag and drop, the download, and the automation contract below. URL parameters:
-// ?sample=NAME picks the first sample (default bookshelf), ?descriptor=, ?matcher=, ?labels= preset the
-// policy choices (default: the library's defaults, the first of each list the module reports).
+// ?sample=NAME picks the first sample (default bookshelf), ?descriptor=, ?matcher=, ?detector=, ?labels= preset
+// the policy choices (default: the library's defaults, the first of each list the module reports).
+// Candidate repeats (a pair, or a repeat weaker than a parallel principal offset) are listed under Candidates
+// and drawn in cyan in the histogram inset; clicking one (either place) promotes it: it becomes a principal
+// offset and a resize slider moves along it. Hovering a dominant offset's peak in the inset explains it.
 //
 // Contract for automated checks:
 //   document.body.dataset.status: 'loading' | 'analyzing' | 'ready' | 'error'
@@ -18,7 +21,12 @@
 //     that result (rejects with the message when the resize fails, with an Error whose .superseded is true
 //     when a later request replaced it before it ran)
 //   window.restitchDemo.resizeTimings (ms per shown resize), .statusHistory, .progressReports,
-//   .loadSample(name), .setView('shaded' | 'labels' | 'seams'), .setOverlays({offsets, histogram}),
+//   window.restitchDemo.promoted   the offsets promoted on request (model units; [] for the detected ones)
+//   window.restitchDemo.promote([[x, y, z], ...])  resolves with the new analysis once the sliders follow it
+//     ([] = back to the detected offsets; rejects with the worker's message when refused)
+//   window.restitchDemo.histogramPeaks() -> [{index, x, y, candidate}]  where the dominant offsets' peaks are
+//     drawn in the histogram inset (CSS pixels, page coordinates; candidate: index in analysis.candidates or -1)
+//   .loadSample(name, params), .setView('shaded' | 'labels' | 'seams'), .setOverlays({offsets, histogram}),
 //   .getCamera() -> {position, target}, .setCamera({position, target}) (model units; a later resize moves the
 //   camera with the model again, so set it after setSteps resolves for a fixed framing)
 import { WorkerClient } from './worker-client.js';
@@ -26,6 +34,7 @@ import { Session } from './session.js';
 import { View } from './view.js';
 import { Panel } from './panel.js';
 import { boxOf, disposeGroup, histogramObjects, materialsFromGlb, modelObjects, offsetArrows } from './layers.js';
+import { peakExplanation, withOffset } from './peaks.js';
 
 const query = new URLSearchParams(location.search);
 const $ = (id) => document.getElementById(id);
@@ -35,6 +44,7 @@ const settings = {
   sample: query.get('sample') || 'bookshelf',
   descriptor: query.get('descriptor'),  // null: the module's default, set in start()
   matcher: query.get('matcher'),
+  detector: query.get('detector'),
   labelSpace: query.get('labels'),
   view: 'shaded',
   offsets: true,
@@ -47,7 +57,7 @@ const panel = new Panel(settings, { figures: $('figures'), progress: $('progress
                                     progressFill: $('progress-fill'), error: $('error') });
 const view = new View({ container: $('viewport'), histogramLabel: $('histogram-label'), insets: overlayInsets });
 const session = new Session(client, {
-  policy: () => ({ descriptor: settings.descriptor, matcher: settings.matcher }),
+  policy: () => ({ descriptor: settings.descriptor, matcher: settings.matcher, detector: settings.detector }),
   hooks: {
     status: (s) => { document.body.dataset.status = s; },
     error: (message) => panel.showError(message),
@@ -57,6 +67,9 @@ const session = new Session(client, {
     progress: (stage, fraction) => panel.showProgress(stage, fraction),
     analysis: (analysis) => {
       panel.buildSliders(analysis, session.state.model, () => resizeTo(currentSteps()).catch(() => {}));
+      panel.buildCandidates(analysis, session.state.model, session.state.promoted,
+                            { promote: (offset) => promoteOffset(offset), detected: () => promote([]).catch(() => {}) });
+      hidePeakTip();
       showOffsets();
       showModel();
       view.render();
@@ -112,6 +125,94 @@ function setSteps(steps) {
   panel.refresh();
   return resizeTo(s);
 }
+
+// Promotion: the offsets made principal on request (the session refits the analysis in the worker).
+function promote(offsets) {
+  if (!session.state.analysis) return Promise.reject(new Error('no analysed model yet'));
+  return session.promote(offsets);
+}
+
+function promoteOffset(offset) {
+  return promote(withOffset(session.state.promoted, offset)).catch(() => {});
+}
+
+// ---- the histogram inset: hovering a dominant offset's peak explains it, clicking a candidate's promotes it -----
+
+const peakTip = $('peak-tip');
+
+function histogramPeaks() {
+  const { analysis, extras } = session.state;
+  if (!analysis || !extras) return [];
+  const canvas = view.renderer.domElement.getBoundingClientRect();
+  const out = [];
+  extras.dominant_normalized.forEach((p, index) => {
+    const at = view.histogramToScreen(p);
+    if (!at) return;
+    const candidate = (analysis.candidates || []).findIndex((c) => c.dominant === index);
+    out.push({ index, x: canvas.left + at.x, y: canvas.top + at.y, candidate });
+  });
+  return out;
+}
+
+// The peak under the pointer (within 8 CSS pixels), nearest first; null when none.
+function peakAt(x, y) {
+  let best = null, bestD = 8;
+  for (const p of histogramPeaks()) {
+    const d = Math.hypot(p.x - x, p.y - y);
+    if (d <= bestD) { best = p; bestD = d; }
+  }
+  return best;
+}
+
+function hidePeakTip() {
+  peakTip.hidden = true;
+  $('viewport').classList.remove('over-candidate');
+}
+
+function showPeakTip(peak, x, y) {
+  const { analysis, model } = session.state;
+  const longest = Math.max(...model.info.bbox_max.map((v, k) => v - model.info.bbox_min[k]));
+  const e = peakExplanation(analysis, peak.index, model.units, longest);
+  const title = document.createElement('div');
+  title.className = 'title';
+  title.textContent = e.title;
+  const table = document.createElement('table');
+  for (const [name, value, verdict] of e.tests) {
+    const tr = table.insertRow();
+    tr.insertCell().textContent = name;
+    tr.insertCell().textContent = value;
+    const v = tr.insertCell();
+    v.textContent = verdict;
+    v.className = verdict === 'passed' ? 'passed' : 'failed';
+  }
+  const notes = e.notes.map((n) => {
+    const d = document.createElement('div');
+    d.className = 'note';
+    d.textContent = n;
+    return d;
+  });
+  peakTip.replaceChildren(title, table, ...notes);
+  peakTip.hidden = false;
+  peakTip.style.left = `${x + 14}px`;
+  peakTip.style.top = `${Math.max(4, y - peakTip.offsetHeight - 10)}px`;
+  $('viewport').classList.toggle('over-candidate', peak.candidate >= 0);
+}
+
+$('viewport').addEventListener('pointermove', (e) => {
+  const peak = e.buttons ? null : peakAt(e.clientX, e.clientY);
+  if (peak) showPeakTip(peak, e.clientX, e.clientY);
+  else if (!peakTip.hidden) hidePeakTip();
+});
+$('viewport').addEventListener('pointerleave', hidePeakTip);
+// Capture: a click on a candidate's peak promotes it and does not start an orbit.
+$('viewport').addEventListener('pointerdown', (e) => {
+  const peak = peakAt(e.clientX, e.clientY);
+  if (!peak || peak.candidate < 0) return;
+  e.stopPropagation();
+  e.preventDefault();
+  hidePeakTip();
+  promoteOffset(session.state.analysis.candidates[peak.candidate].offset);
+}, { capture: true });
 
 function loadSample(name, params = {}) {
   settings.sample = name;
@@ -183,6 +284,9 @@ window.restitchDemo = {
   },
   get report() { return session.state.retarget ? session.state.retarget.result.report : null; },
   get error() { return session.state.error; },
+  get promoted() { return session.state.promoted; },
+  promote,
+  histogramPeaks,
   get progressReports() { return session.progressReports; },
   statusHistory: session.statusHistory,
   resizeTimings: session.resizeTimings,
@@ -213,6 +317,7 @@ async function start() {
   const pick = (wanted, known) => (known.includes(wanted) ? wanted : known[0]);
   settings.descriptor = pick(settings.descriptor, catalog.policies.descriptors);
   settings.matcher = pick(settings.matcher, catalog.policies.matchers);
+  settings.detector = pick(settings.detector, catalog.policies.detectors || ['histogram']);
   settings.labelSpace = pick(settings.labelSpace, catalog.policies.label_spaces);
   panel.build({ samples: catalog.samples.map((s) => s.name), policies: catalog.policies }, handlers);
   if (!catalog.samples.some((s) => s.name === settings.sample)) settings.sample = catalog.samples[0].name;

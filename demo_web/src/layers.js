@@ -4,8 +4,9 @@
 //       'shaded' (its own materials), 'labels' (output cells coloured by label, paper Fig. 4c) or
 //       'seams' (grey, plus the faces between differently labelled cells; seams is null otherwise)
 //   offsetArrows(principalOffsets, box) -> [ArrowHelper]   principal offsets from the box's centre (paper Fig. 2)
-//   histogramObjects(analysis, extras) -> [Object3D]           offsets of all matches and the dominant and
-//                                                              principal offsets, in normalized units
+//   histogramObjects(analysis, extras) -> [Object3D]           offsets of all matches and the dominant
+//                                                              (candidates in cyan) and principal offsets,
+//                                                              in normalized units
 //   materialsFromGlb(glb) -> promise of [Material]             the materials (and textures) of a .glb
 //   boxOf(info) -> Box3                                        a loaded model's bounding box (model units)
 //   disposeGroup(group)                                        empties a group, freeing what it owned
@@ -175,11 +176,13 @@ export function histogramObjects(analysis, extras) {
   const pg = new THREE.BufferGeometry();
   pg.setAttribute('position', new THREE.BufferAttribute(extras.match_offsets, 3));
   out.push(new THREE.Points(pg, owned(new THREE.PointsMaterial({ color: 0x8a8f98, size: 1.5, sizeAttenuation: false }))));
-  const dom = extras.dominant_normalized.flat();
-  if (dom.length) {
+  const candidate = new Set((analysis.candidates || []).map((c) => c.dominant));
+  for (const [wanted, color, size] of [[false, 0xffa030, 7], [true, 0x40d8f0, 9]]) {
+    const dom = extras.dominant_normalized.filter((_, i) => candidate.has(i) === wanted).flat();
+    if (!dom.length) continue;
     const dg = new THREE.BufferGeometry();
     dg.setAttribute('position', new THREE.Float32BufferAttribute(dom, 3));
-    out.push(new THREE.Points(dg, owned(new THREE.PointsMaterial({ color: 0xffa030, size: 7, sizeAttenuation: false }))));
+    out.push(new THREE.Points(dg, owned(new THREE.PointsMaterial({ color, size, sizeAttenuation: false }))));
   }
   analysis.principal_offsets.forEach((v, i) => {
     const dir = new THREE.Vector3(...v).multiplyScalar(analysis.scale);

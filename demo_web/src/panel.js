@@ -3,28 +3,24 @@
 //   const panel = new Panel(settings, { figures, progress, progressLabel, progressFill, error });  // elements
 //   panel.build({ samples, policies }, handlers)   the Model / Analysis / Resize / View folders
 //   panel.buildSliders(analysis, model, onSteps)   one slider per principal offset; onSteps() on every move
+//   panel.buildCandidates(analysis, model, promoted, { promote(offset), detected() })   the Candidates folder:
+//                                                 one button per candidate repeat, and 'detected offsets'
 //   panel.refresh()                               shows `settings` again after it was changed in code
 //   panel.showFigures(state)                      the figures table of a Session's state (./session.js)
 //   panel.showProgress(stage, fraction) / panel.showError(message)   (null / '' hide them)
-// `settings` is the object the controls edit: sample, descriptor, matcher, labelSpace, view ('shaded' |
+// `settings` is the object the controls edit: sample, descriptor, matcher, detector, labelSpace, view ('shaded' |
 // 'labels' | 'seams'), offsets, histogram (booleans), steps {v1, v2, v3}. handlers: sample(name), open(),
 // download(), policy() (descriptor or matcher changed), labelSpace(), view(), offsets(), histogram().
 // The slider names give the size each step count makes along its principal offset, in model units.
 import GUI from 'lil-gui';
+import { candidateLabel, fmt, lengthFormat } from './peaks.js';
 
 const STAGES = ['sampling', 'descriptors', 'matching', 'histogram', 'refinement', 'lattice'];
 
-export const fmt = (x, d = 3) => (Number.isFinite(x) ? Number(x.toPrecision(d)).toString() : '–');
+export { fmt };
 const vfmt = (v, d = 3) => v.map((x) => fmt(x, d)).join(' × ');
 const sizeOf = (info) => info.bbox_max.map((x, k) => x - info.bbox_min[k]);
 const norm = (v) => Math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);  // as THREE.Vector3.length()
-
-// A model-unit length with three decimals below the model's leading digit (so 7e-7 m on a 1.6 m model is 0.000).
-function lengthFormat(x, longest) {
-  const decimals = Math.min(8, Math.max(0, 3 - Math.floor(Math.log10(longest))));
-  const s = x.toFixed(decimals);
-  return /^-0\.?0*$/.test(s) ? s.slice(1) : s;
-}
 
 // The extent of a mesh along a direction (any length): the length of its shadow on that axis.
 function extentAlong(positions, v) {
@@ -52,8 +48,11 @@ export function figureRows({ model: m, analysis: a, retarget: r, shown, analysis
     const longest = Math.max(...sizeOf(m.info));
     rows.push(['features', `${a.features}`]);
     rows.push(['dominant offsets', `${a.dominant_offsets.length}`]);
+    const promoted = a.dominant_offsets.filter((d) => d.promoted).length;
     a.principal_offsets.forEach((v, i) =>
-      rows.push([`v${i + 1}`, `(${v.map((x) => lengthFormat(x, longest)).join(', ')}) ${m.units}`]));
+      rows.push([`v${i + 1}`, `(${v.map((x) => lengthFormat(x, longest)).join(', ')}) ${m.units}` +
+                              (i < promoted ? ' (promoted)' : '')]));
+    rows.push(['candidates', `${(a.candidates || []).length}`]);
     rows.push(['lattice cells', a.lattice_cells.join(' × ')]);
     rows.push(['sparsity', `top7 ${fmt(a.sparsity.top7)}, top20 ${fmt(a.sparsity.top20)}`]);
     rows.push(['analysis', `${fmt(analysisMs, 4)} ms in the worker`]);
@@ -76,6 +75,7 @@ export class Panel {
   #sliders = [];
   #sliderBase = { extents: [], lengths: [], units: 'm' };  // per principal offset, for the slider names
   #sampleController = null;
+  #candidateControls = [];
 
   constructor(settings, elements) {
     this.settings = settings;
@@ -83,6 +83,7 @@ export class Panel {
     this.gui = new GUI({ title: 'restitch' });
     this.modelFolder = this.gui.addFolder('Model');
     this.analysisFolder = this.gui.addFolder('Analysis');
+    this.candidatesFolder = this.gui.addFolder('Candidates');
     this.resizeFolder = this.gui.addFolder('Resize');
     this.viewFolder = this.gui.addFolder('View');
   }
@@ -94,6 +95,7 @@ export class Panel {
     this.modelFolder.add({ download: on.download }, 'download').name('download .glb');
     this.analysisFolder.add(s, 'descriptor', policies.descriptors).onChange(on.policy);
     this.analysisFolder.add(s, 'matcher', policies.matchers).onChange(on.policy);
+    if (policies.detectors) this.analysisFolder.add(s, 'detector', policies.detectors).onChange(on.policy);
     this.resizeFolder.add(s, 'labelSpace', policies.label_spaces).name('label space').onChange(on.labelSpace);
     this.viewFolder.add(s, 'view', { shaded: 'shaded', 'cells by label': 'labels', seams: 'seams' }).onChange(on.view);
     this.viewFolder.add(s, 'offsets').name('principal offsets').onChange(on.offsets);
@@ -126,6 +128,33 @@ export class Panel {
       this.#sliders.push(c);
     });
     this.#nameSliders();
+  }
+
+  // Candidates: repeats the analysis found but does not resize along (a pair, or weaker than a parallel
+  // principal offset). A click promotes one (it becomes a principal offset, and a slider moves along it);
+  // 'detected offsets' undoes the promotions. Each button's element carries data-candidate="i" (or
+  // data-detected) for automated checks.
+  buildCandidates(analysis, model, promoted, on) {
+    for (const c of this.#candidateControls) c.destroy();
+    this.#candidateControls = [];
+    const longest = Math.max(...model.info.bbox_max.map((x, k) => x - model.info.bbox_min[k]));
+    (analysis.candidates || []).forEach((cand, i) => {
+      const c = this.candidatesFolder.add({ promote: () => on.promote(cand.offset) }, 'promote')
+                                     .name(`${i + 1}: ${candidateLabel(cand, model.units, longest)}`);
+      c.domElement.dataset.candidate = String(i);
+      c.domElement.title = 'make this offset principal: a resize slider then moves along it';
+      this.#candidateControls.push(c);
+    });
+    if (!this.#candidateControls.length) {
+      const c = this.candidatesFolder.add({ none: () => {} }, 'none').name('none').disable();
+      this.#candidateControls.push(c);
+    }
+    const back = this.candidatesFolder.add({ detected: on.detected }, 'detected')
+                                      .name('↺ detected offsets');
+    back.domElement.dataset.detected = '';
+    back.domElement.title = 'undo the promotions: back to the offsets the analysis chose';
+    if (!promoted.length) back.disable();
+    this.#candidateControls.push(back);
   }
 
   refresh() {

@@ -1,9 +1,10 @@
 // session.js - the demo's state machine: start, load a model, analyse it, resize it; no DOM, no three.js.
 //
-//   const session = new Session(client, { hooks, policy: () => ({ descriptor, matcher }) });
+//   const session = new Session(client, { hooks, policy: () => ({ descriptor, matcher, detector }) });
 //   await session.start();                     // the catalog: {samples, policies, version}, or null on failure
 //   await session.load({ sample: { name, params } });   // or { file: { name, bytes } }; analyses it too
 //   await session.resize([a, b, c], labelSpace);         // resolves once hooks.result has shown it
+//   await session.promote([[x, y, z], ...]);            // these offsets principal first; [] = the detected ones
 //   session.reanalyze()        the policy changed      session.save() -> .glb bytes (the result, else the input)
 //   session.present() -> mesh  what the view shows     session.fail(message): the error state, from the app
 //
@@ -18,6 +19,13 @@
 // `.superseded` is true (unless the later request asks for the same steps: it then shares its result). A
 // failed resize rejects its promise with the worker's message and sets the error state; a new load or
 // analysis rejects the promises still pending.
+// Promotions (offsets made principal, model units, the analysis refitted in the worker) are latest-wins the
+// same way, in a queue of their own: one in flight, a later request replaces the waiting one (whose promise
+// rejects with `.superseded`). While one is in flight no resize is sent; once its answer is in, the new
+// analysis replaces the old one (hooks.analysis: the sliders follow the new principal offsets), the input is
+// shown again, and the resizes asked for meanwhile are dropped (their steps referred to the old offsets). A
+// refused promotion rejects with the worker's message and sets the error state, and changes nothing else:
+// analysis, result and the offsets promoted before stay, and the waiting resizes run.
 //
 // hooks (all optional; the app draws from them):
 //   status(status)            every status change (also recorded in `statusHistory`)
@@ -26,7 +34,8 @@
 //   materials(glb) -> promise what `model.materials` holds, from the loaded model's .glb bytes (default [])
 //   model(model)              the input model is loaded and shown (no analysis yet)
 //   progress(stage, fraction) analysis progress; progress(null) once the analysis has ended
-//   analysis(analysis)        the analysis is in (`state.analysis`, `state.extras`)
+//   analysis(analysis)        the analysis is in (`state.analysis`, `state.extras`), after a load, a
+//                             re-analysis or a promotion
 //   result(retarget) -> promise   a resize result is in `state.retarget`; resolve once the view shows it
 //   timed(retarget)           its time from request to view, `retarget.pageMs`, is known
 //   redraw()                  a load or an analysis failed: the view should draw the state as it is now
@@ -34,11 +43,20 @@
 // state: status, error, catalog [{name, units, ...}], policies {descriptors, matchers, label_spaces},
 //   model {name, units, info, inputMesh, materials} (info: the worker's load answer: bbox_min/max, triangles,
 //   warnings, ...), analysis (`restitch analyze --json` fields), extras (raw match offsets for the histogram),
-//   analysisMs, retarget {steps, labelSpace, result, mesh, ms, pageMs} (the result shown, null while the input
+//   analysisMs, promoted [[x, y, z]...] (the offsets made principal on request, [] for the detected ones),
+//   retarget {steps, labelSpace, result, mesh, ms, pageMs} (the result shown, null while the input
 //   is shown), shown {vertices, triangles} (of the mesh shown).
 
 const NO_REPETITION = 'No repetition found: restitch found no repeated part in this model, so there is nothing to ' +
                       'resize along. Try a model with repeated parts (shelves, windows, fence pickets).';
+
+// The error shown for an analysis without principal offsets: candidates, when there are, can be promoted.
+export function noRepetitionMessage(analysis) {
+  const n = (analysis.candidates || []).length;
+  if (!n) return NO_REPETITION;
+  return `No repeated pattern found, but ${n === 1 ? 'a candidate repeat' : `${n} candidate repeats`} (a pair or a ` +
+         'weaker parallel repeat): click one under Candidates to resize along it.';
+}
 
 const noop = () => {};
 const defaultHooks = {
@@ -50,10 +68,21 @@ function countsOf(mesh) {
   return { vertices: mesh.positions.length / 3, triangles: mesh.indices.length / 3 };
 }
 
+// Latest-wins: `job` replaces the waiting one, which shares its promises when it asks for the same (`key`) and
+// else rejects them with an Error whose .superseded is true.
+function replace(waiting, job, what) {
+  if (waiting && waiting.key === job.key) job.waiters.unshift(...waiting.waiters);
+  else if (waiting) {
+    const superseded = () => Object.assign(new Error(`superseded by a later ${what} request`), { superseded: true });
+    for (const w of waiting.waiters) w.reject(superseded());
+  }
+  return job;
+}
+
 export class Session {
   state = {
     status: 'loading', error: '', catalog: [], policies: { descriptors: [], matchers: [], label_spaces: [] },
-    model: null, analysis: null, extras: null, analysisMs: 0, retarget: null, shown: null,
+    model: null, analysis: null, extras: null, analysisMs: 0, promoted: [], retarget: null, shown: null,
   };
   statusHistory = [];   // every status change, for automated checks
   resizeTimings = [];   // ms from request to view, per resize shown
@@ -66,6 +95,8 @@ export class Session {
   #generation = 0;
   #inFlight = null;     // the retarget job running: {steps, labelSpace, key, t0, waiters}
   #next = null;         // the one waiting to run
+  #promoting = null;    // the promotion running: {offsets, key, waiters}
+  #nextPromotion = null;  // the one waiting to run
 
   constructor(client, { hooks = {}, policy = () => ({}), now = () => performance.now() } = {}) {
     this.#client = client;
@@ -95,8 +126,9 @@ export class Session {
     if (this.state.status === 'analyzing' || this.state.status === 'loading') this.#client.restart();
     this.#clearError();
     this.#setStatus('loading');
-    Object.assign(this.state, { analysis: null, extras: null, retarget: null });
+    Object.assign(this.state, { analysis: null, extras: null, retarget: null, promoted: [] });
     this.#dropResizes('a new model was opened');
+    this.#dropPromotions('a new model was opened');
     const label = what.file ? what.file.name : `sample: ${what.sample.name}`;
     this.#hooks.loading(label);
     try {
@@ -124,6 +156,7 @@ export class Session {
   async reanalyze() {
     const generation = ++this.#generation;
     this.#dropResizes('the model is being analysed again');
+    this.#dropPromotions('the model is being analysed again');
     await this.#analyze(generation);
   }
 
@@ -133,14 +166,24 @@ export class Session {
     const key = `${steps.join(',')}|${labelSpace}`;
     const job = { steps: steps.slice(), labelSpace, key, t0: this.#now(), waiters: [] };
     const promise = new Promise((resolve, reject) => job.waiters.push({ resolve, reject }));
-    const replaced = this.#next;
-    if (replaced && replaced.key === key) job.waiters.unshift(...replaced.waiters);
-    else if (replaced) {
-      const superseded = () => Object.assign(new Error('superseded by a later resize request'), { superseded: true });
-      for (const w of replaced.waiters) w.reject(superseded());
-    }
-    this.#next = job;
+    this.#next = replace(this.#next, job, 'resize');
     this.#pump();
+    return promise;
+  }
+
+  // Makes `offsets` (model units, at most three) the first principal offsets, in order ([]: back to the
+  // detected ones); see the header for the queue. Resolves with the new analysis once hooks.analysis has
+  // shown it.
+  promote(offsets) {
+    const list = offsets.map((v) => Array.from(v, Number));
+    const job = { offsets: list, key: JSON.stringify(list), waiters: [] };
+    const promise = new Promise((resolve, reject) => job.waiters.push({ resolve, reject }));
+    if (!this.state.analysis || this.state.status === 'analyzing') {
+      for (const w of job.waiters) w.reject(new Error('no analysed model yet'));
+      return promise;
+    }
+    this.#nextPromotion = replace(this.#nextPromotion, job, 'promotion');
+    this.#pumpPromotion();
     return promise;
   }
 
@@ -186,18 +229,18 @@ export class Session {
   async #analyze(generation) {
     this.#setStatus('analyzing');
     this.#clearError();
-    Object.assign(this.state, { retarget: null, analysis: null, extras: null });
+    Object.assign(this.state, { retarget: null, analysis: null, extras: null, promoted: [] });
     this.#progress('sampling', 0);
     try {
-      const { descriptor, matcher } = this.#policy();
-      const msg = await this.#client.request('analyze', { descriptor, matcher },
+      const { descriptor, matcher, detector } = this.#policy();
+      const msg = await this.#client.request('analyze', { descriptor, matcher, detector },
                                              { onProgress: (stage, f) => this.#progress(stage, f) });
       if (generation !== this.#generation) return;
       this.#hooks.progress(null);
       Object.assign(this.state, { analysis: msg.analysis, extras: msg.extras, analysisMs: msg.ms });
       this.present();
       this.#hooks.analysis(msg.analysis);
-      if (msg.analysis.principal_offsets.length === 0) return this.fail(NO_REPETITION);
+      if (msg.analysis.principal_offsets.length === 0) return this.fail(noRepetitionMessage(msg.analysis));
       this.#setStatus('ready');
     } catch (e) {
       if (e.cancelled || generation !== this.#generation) return;
@@ -213,8 +256,47 @@ export class Session {
     this.#inFlight = this.#next = null;
   }
 
+  #dropPromotions(message) {
+    for (const job of [this.#promoting, this.#nextPromotion]) if (job) for (const w of job.waiters) w.reject(new Error(message));
+    this.#promoting = this.#nextPromotion = null;
+  }
+
+  async #pumpPromotion() {
+    if (this.#promoting || !this.#nextPromotion) return;
+    const job = this.#nextPromotion;
+    this.#nextPromotion = null;
+    this.#promoting = job;
+    let generation = this.#generation;
+    try {
+      const msg = await this.#client.request('promote', { offsets: job.offsets });
+      if (generation !== this.#generation) return;
+      this.#promoting = null;
+      generation = ++this.#generation;  // a result still on its way to the view is about the old offsets
+      this.#dropResizes('the principal offsets changed');
+      Object.assign(this.state, { analysis: msg.analysis, extras: msg.extras, promoted: job.offsets, retarget: null });
+      this.present();
+      this.#hooks.analysis(msg.analysis);
+      if (msg.analysis.principal_offsets.length === 0) this.fail(noRepetitionMessage(msg.analysis));
+      else {
+        this.#clearError();
+        this.#setStatus('ready');
+      }
+      for (const w of job.waiters) w.resolve(msg.analysis);
+    } catch (e) {
+      if (e.cancelled || generation !== this.#generation) return;
+      this.#promoting = null;
+      this.fail(`Could not make ${job.offsets.length ? 'those offsets' : 'the detected offsets'} principal: ${e.message}`);
+      for (const w of job.waiters) w.reject(new Error(e.message));
+    } finally {
+      if (generation === this.#generation) {
+        this.#pumpPromotion();
+        this.#pump();
+      }
+    }
+  }
+
   async #pump() {
-    if (this.#inFlight || !this.#next || !this.state.analysis) return;
+    if (this.#inFlight || this.#promoting || !this.#next || !this.state.analysis) return;
     const job = this.#next;
     this.#next = null;
     this.#inFlight = job;

@@ -6,6 +6,8 @@
 //   view.fitCamera(box)           frames a box from the default direction (a new model)
 //   view.followBox(box)           frames a resized model keeping the user's direction, pan and zoom
 //   view.getCamera() / view.setCamera({position, target})   model units
+//   view.histogramToScreen([x, y, z]) -> {x, y} | null   where a point of the histogram inset (normalized units)
+//                                 was last drawn, in CSS pixels from the canvas's top left (null: inset hidden)
 // `insets()` returns the widths {left, right} of the page's overlays: the projection is centred between them
 // and a box is framed to fit there. Orbiting and window resizes redraw by themselves; nothing animates
 // otherwise, so every change of the groups must be followed by render().
@@ -14,6 +16,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
 
 const HIST_SIZE = 240;  // the histogram inset, in CSS pixels, bottom left
+const HIST_MARGIN = 8;
 
 export class View {
   modelGroup = new THREE.Group();   // the model shown (input or result)
@@ -74,13 +77,21 @@ export class View {
       this.histCamera.up.copy(camera.up);
       this.histCamera.lookAt(0, 0, 0);
       renderer.setScissorTest(true);
-      renderer.setScissor(8, 8, HIST_SIZE, HIST_SIZE);
-      renderer.setViewport(8, 8, HIST_SIZE, HIST_SIZE);
+      renderer.setScissor(HIST_MARGIN, HIST_MARGIN, HIST_SIZE, HIST_SIZE);
+      renderer.setViewport(HIST_MARGIN, HIST_MARGIN, HIST_SIZE, HIST_SIZE);
       renderer.clear();
       renderer.render(this.histScene, this.histCamera);
       renderer.setScissorTest(false);
     }
     this.histogramLabel.hidden = !histogram;
+  }
+
+  histogramToScreen(p) {
+    if (!this.showHistogram()) return null;
+    const v = new THREE.Vector3(...p).project(this.histCamera);
+    if (Math.abs(v.x) > 1 || Math.abs(v.y) > 1) return null;
+    const h = this.renderer.domElement.clientHeight;
+    return { x: HIST_MARGIN + (v.x + 1) / 2 * HIST_SIZE, y: h - HIST_MARGIN - (v.y + 1) / 2 * HIST_SIZE };
   }
 
   // The box of what a group shows, in model units.

@@ -5,8 +5,11 @@
 //   {type: 'catalog'}                                  {type: 'catalog', samples, policies, version}
 //   {type: 'load', file: {name, bytes}}                {type: 'loaded', info, mesh, glb}
 //   {type: 'load', sample: {name, params}}             (same)
-//   {type: 'analyze', descriptor, matcher}             {type: 'progress', stage, fraction} ..., then
+//   {type: 'analyze', descriptor, matcher, detector}   {type: 'progress', stage, fraction} ..., then
 //                                                      {type: 'analyzed', analysis, extras, ms}
+//   {type: 'promote', offsets: [[x, y, z], ...]}       {type: 'promoted', offsets, analysis, extras, ms}
+//     (model units, at most three: they become the first principal offsets, in order; [] goes back to the
+//     detected ones; later retargets step along the new principal offsets. Refused: analysis unchanged.)
 //   {type: 'retarget', steps: [a, b, c], labelSpace}   {type: 'retargeted', steps, result, mesh, ms}
 //   {type: 'save', which: 'result' | 'input'}          {type: 'saved', bytes}
 //   any failure                                        {type: 'error', request, code, message}
@@ -55,10 +58,18 @@ function handle(restitch, msg) {
     }
     case 'analyze': {
       const t0 = performance.now();
-      const r = session.analyze(msg.descriptor, msg.matcher, (stage, fraction) =>
+      const r = session.analyze(msg.descriptor, msg.matcher, msg.detector || 'histogram', (stage, fraction) =>
         self.postMessage({ type: 'progress', id: msg.id, stage, fraction }));
       if (!r.ok) return fail(msg, r);
       post({ type: 'analyzed', id: msg.id, analysis: r.analysis, extras: r.extras, ms: performance.now() - t0 });
+      return;
+    }
+    case 'promote': {
+      const t0 = performance.now();
+      const r = session.promote(msg.offsets);
+      if (!r.ok) return fail(msg, r);
+      post({ type: 'promoted', id: msg.id, offsets: msg.offsets, analysis: r.analysis, extras: r.extras,
+             ms: performance.now() - t0 });
       return;
     }
     case 'retarget': {

@@ -1,8 +1,9 @@
 // End-to-end test of the demo page in Debian's Chromium (headless, SwiftShader WebGL) with playwright-core:
 // serve demo_web/ on a free 127.0.0.1 port, open the page, wait for a sample to reach `ready`, drag a
 // slider, call setSteps, switch views, download the .glb and validate it, open files from disk (one made by
-// the module, one from ../shared/models when present, one broken), check the console stayed clean, and save
-// demo_web/screenshot.png. Prints one line per check and ends with "e2e: N passed, M failed".
+// the module, one from ../shared/models when present, one broken), load the 2-pin header (no principal offset,
+// its pitch a pair candidate): hover its peak in the histogram, click the candidate, move the slider to 3 pins,
+// undo, click the peak, switch the detector; check the console stayed clean, and save demo_web/screenshot.png. Prints one line per check and ends with "e2e: N passed, M failed".
 // Usage: node demo_web/tests/e2e.mjs  (exit code 1 on any failure)
 import fs from 'node:fs';
 import os from 'node:os';
@@ -265,6 +266,91 @@ try {
   } else {
     console.log(`skip - a real model from disk: ${realModel} is absent`);
   }
+
+  // 8. Candidates: the 2-pin header (a bundled sample with pins = 2) repeats only once, so nothing is principal,
+  // but its pitch (2.54 mm) is a pair candidate that one click makes resizable.
+  const isPitch = (v) => Math.abs(Math.abs(v[0]) - 2.54) < 2e-3 && Math.abs(v[1]) < 2e-3 && Math.abs(v[2]) < 2e-3;
+  let pitchCandidate = -1;
+  await attempt('the 2-pin header: no principal offset, the pitch listed as a candidate, the error points at it', async () => {
+    await settleAfter(() => page.evaluate(() => { window.restitchDemo.loadSample('pin_header', { pins: 2 }); }));
+    const a = await page.evaluate(() => window.restitchDemo.analysis);
+    assert(a.principal_offsets.length === 0, `${a.principal_offsets.length} principal offsets`);
+    pitchCandidate = a.candidates.findIndex((c) => isPitch(c.offset));
+    assert(pitchCandidate >= 0, `candidates ${JSON.stringify(a.candidates)}`);
+    assert((await status()) === 'error', `status ${await status()}`);
+    assert(/candidate/.test(await page.textContent('#error')), await page.textContent('#error'));
+    const label = await page.textContent(`[data-candidate="${pitchCandidate}"]`);
+    assert(/2\.54.*2 copies.*pair/.test(label), `the button reads '${label}'`);
+    return label.trim();
+  });
+  const peakOf = async (candidate) => {
+    const peaks = await page.evaluate(() => window.restitchDemo.histogramPeaks());
+    const p = peaks.find((q) => q.candidate === candidate);
+    assert(p, `no peak for candidate ${candidate} in ${JSON.stringify(peaks)}`);
+    return p;
+  };
+  await attempt('hovering the candidate\'s peak in the histogram shows its tests and why it was rejected', async () => {
+    const p = await peakOf(pitchCandidate);
+    await page.mouse.move(p.x + 60, p.y - 60);
+    await page.mouse.move(p.x, p.y, { steps: 4 });
+    await page.waitForSelector('#peak-tip:not([hidden])', { timeout: 5000 });
+    const text = await page.innerText('#peak-tip');
+    for (const want of [/dominant offset \d+: \(/, /votes/, /overlap/, /passed/, /FAILED/, /rejected by \w+/, /divisor 1/,
+                        /not promoted/, /click to resize along it/])
+      assert(want.test(text), `${want} not in '${text}'`);
+    await page.mouse.move(p.x + 120, p.y - 120);
+    await page.waitForSelector('#peak-tip', { state: 'hidden', timeout: 5000 });
+    return text.match(/rejected by \w+/)[0];
+  });
+  await attempt('clicking the candidate makes it principal; the slider grows the header to 3 pins (8.22 mm)', async () => {
+    const before = (await page.evaluate(() => window.restitchDemo.result)).triangles;
+    await page.locator(`[data-candidate="${pitchCandidate}"] button`).click();
+    await waitStatus(['ready']);
+    const a = await page.evaluate(() => window.restitchDemo.analysis);
+    assert(a.principal_offsets.length === 1 && isPitch(a.principal_offsets[0]), JSON.stringify(a.principal_offsets));
+    assert(await page.isHidden('#error'), 'the error is still shown');
+    const slider = page.locator('.lil-gui .lil-controller.lil-number .lil-slider').first();
+    const box = await slider.boundingBox();
+    const cells = a.lattice_cells[a.resizable.indexOf(true)];
+    const min = 1 - cells, max = Math.min(24, Math.max(6, 2 * cells));
+    await page.mouse.click(box.x + box.width * (1 - min) / (max - min), box.y + box.height / 2);
+    await page.waitForFunction(() => window.restitchDemo.report, null, { timeout: 30000 });
+    const rep = await page.evaluate(() => window.restitchDemo.report);
+    assert(rep.steps_principal.join() === '1', `steps_principal ${rep.steps_principal}`);
+    assert(Math.abs(rep.size_out[0] - 8.22) < 1e-3, `size out ${rep.size_out}`);
+    const after = (await page.evaluate(() => window.restitchDemo.result)).triangles;
+    assert(after > before, `${before} -> ${after} triangles`);
+    return `${rep.size_out[0].toFixed(2)} mm wide, ${before} -> ${after} triangles`;
+  });
+  await attempt('\'detected offsets\' undoes the promotion; clicking the candidate\'s peak promotes it again', async () => {
+    await page.locator('[data-detected] button').click();
+    await page.waitForFunction(() => window.restitchDemo.analysis.principal_offsets.length === 0 &&
+                               document.body.dataset.status === 'error', null, { timeout: 30000 });
+    assert((await page.evaluate(() => window.restitchDemo.promoted)).length === 0, 'still promoted');
+    assert((await page.evaluate(() => window.restitchDemo.report)) === null, 'the result is still shown');
+    await page.waitForTimeout(100);
+    const p = await peakOf(pitchCandidate);
+    await page.mouse.move(p.x, p.y, { steps: 2 });
+    await page.mouse.down();
+    await page.mouse.up();
+    await waitStatus(['ready'], 30000);
+    const a = await page.evaluate(() => window.restitchDemo.analysis);
+    assert(a.principal_offsets.length === 1 && isPitch(a.principal_offsets[0]), JSON.stringify(a.principal_offsets));
+    const r = await page.evaluate(() => window.restitchDemo.setSteps([2, 0, 0]));
+    const rep = await page.evaluate(() => window.restitchDemo.report);
+    assert(Math.abs(rep.size_out[0] - (5.68 + 2 * 2.54)) < 1e-3, `size out ${rep.size_out}`);
+    return `4 pins: ${rep.size_out[0].toFixed(2)} mm, ${r.triangles} triangles`;
+  });
+
+  await attempt('the detector choice re-analyses with autocorrelation (the promotion is dropped)', async () => {
+    const detector = page.locator('.lil-gui .lil-controller.lil-option').filter({ hasText: 'detector' }).locator('select');
+    await settleAfter(() => detector.selectOption({ label: 'autocorrelation' }));
+    const a = await page.evaluate(() => window.restitchDemo.analysis);
+    assert(a.detector === 'autocorrelation', `detector ${a.detector}`);
+    assert((await page.evaluate(() => window.restitchDemo.promoted)).length === 0, 'the old promotion is kept');
+    await settleAfter(() => detector.selectOption({ label: 'histogram' }));
+    return `${a.principal_offsets.length} principal offsets, ${a.candidates.length} candidates`;
+  });
 
   await attempt('the console has no errors', async () => {
     assert(consoleErrors.length === 0, consoleErrors.slice(0, 3).join(' | '));

@@ -8,6 +8,8 @@ import path from 'node:path';
 import { createRequire } from 'node:module';
 import { fileURLToPath } from 'node:url';
 import { loadRestitch } from '../src/restitch.js';
+import { WorkerClient } from '../src/worker-client.js';
+import { Session as PageSession } from '../src/session.js';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const require = createRequire(path.join(here, '../package.json'));
@@ -63,6 +65,7 @@ test('the module lists its samples and policies', () => {
   // The library's lists (restitch/runtime.hpp), the default first: the page preselects the first.
   assert.deepEqual(p.descriptors, ['shot', 'fpfh']);
   assert.deepEqual(p.matchers, ['brute_force', 'reduced']);
+  assert.deepEqual(p.detectors, ['histogram', 'autocorrelation']);
   assert.deepEqual(p.label_spaces, ['lattice', 'regular']);
   assert.match(restitch.version(), /^restitch \d+\.\d+\.\d+$/);
 });
@@ -118,8 +121,9 @@ test('analysis finds the bookshelf generators as principal offsets (model units)
   const a = shelfAnalysis.analysis;
   // Exactly the fields of `restitch analyze --json` (restitch/io/json_report.hpp).
   assert.deepEqual(Object.keys(a).sort(),
-                   ['descriptor', 'detector', 'dominant_offsets', 'dummy_directions', 'features', 'lattice_axes', 'lattice_cells',
-                    'lattice_origin', 'matcher', 'principal_offsets', 'resizable', 'scale', 'sparsity', 'timings_ms']);
+                   ['candidates', 'descriptor', 'detector', 'dominant_offsets', 'dummy_directions', 'features', 'lattice_axes',
+                    'lattice_cells', 'lattice_origin', 'matcher', 'principal_offsets', 'resizable', 'scale', 'sparsity',
+                    'timings_ms']);
   assert.equal(a.descriptor, 'shot');
   assert.equal(a.matcher, 'reduced');
   assert.equal(a.detector, 'histogram');
@@ -139,6 +143,17 @@ test('analysis finds the bookshelf generators as principal offsets (model units)
   }
   assert.ok(a.lattice_cells.slice(0, 2).every((c) => c >= 4 && c <= 6), `cells ${a.lattice_cells}`);
   assert.ok(a.dominant_offsets[0].votes >= a.dominant_offsets.at(-1).votes, 'dominant offsets ranked by votes');
+  // Every dominant offset explains itself: the tests it ran, and the one that rejected it (null when none did).
+  for (const d of a.dominant_offsets) {
+    assert.ok(d.tests.length >= 1 && d.tests[0].name === 'votes', JSON.stringify(d.tests));
+    for (const t of d.tests) {
+      assert.deepEqual(Object.keys(t).sort(), ['at_most', 'name', 'passed', 'threshold', 'value']);
+      assert.equal(t.passed, t.at_most ? t.value <= t.threshold : t.value >= t.threshold, JSON.stringify(t));
+    }
+    const failed = d.tests.find((t) => !t.passed);
+    assert.equal(d.rejected_by, failed ? failed.name : null);
+    assert.equal(d.promoted, false);
+  }
   // Progress went through every stage, in order, ending at 1.
   const stages = [...new Set(progress.map(([s]) => s))];
   for (const s of ['sampling', 'descriptors', 'matching', 'lattice']) assert.ok(stages.includes(s), s);
@@ -227,6 +242,143 @@ test('the same requests give the same bytes; the reduced matcher gives what brut
     assert.equal(s.retarget(2, 1, 0, 'lattice').ok, true);
     assert.equal(shelf.retarget(2, 1, 0, 'lattice').ok, true);
     assert.deepEqual(s.saveGlb('result').bytes, shelf.saveGlb('result').bytes);
+  } finally {
+    s.delete();
+  }
+});
+
+// The x extent of a mesh's positions.
+function xSize(mesh) {
+  let lo = Infinity, hi = -Infinity;
+  for (let i = 0; i < mesh.positions.length; i += 3) {
+    lo = Math.min(lo, mesh.positions[i]);
+    hi = Math.max(hi, mesh.positions[i]);
+  }
+  return hi - lo;
+}
+const isPitch = (v) => near(Math.abs(v[0]), 2.54, 2e-3) && near(v[1], 0, 2e-3) && near(v[2], 0, 2e-3);
+
+test('the 2-pin header: no principal offset but a pair candidate; promoting it resizes to 3 pins, [] undoes it', () => {
+  const s = new restitch.Session();
+  try {
+    assert.equal(s.promote([[2.54, 0, 0]]).code, 'invalid_argument', 'promotion before any analysis');
+    const info = s.loadSample('pin_header', { pins: 2 });
+    assert.ok(near(info.bbox_max[0] - info.bbox_min[0], 5.68, 1e-4), 'two pitches of 2.54 mm plus the ends');
+    const r = s.analyze('shot', 'brute_force', null);
+    assert.equal(r.ok, true, r.message);
+    const a = r.analysis;
+    assert.deepEqual(a.principal_offsets, [], 'two pins are no pattern by themselves');
+    assert.equal(s.retarget(1, 0, 0, 'lattice').code, 'no_repetition');
+    const c = a.candidates.find((k) => isPitch(k.offset));
+    assert.ok(c, `the pitch among the candidates ${JSON.stringify(a.candidates)}`);
+    assert.equal(c.reason, 'pair');
+    assert.equal(c.copies, 2);
+    const d = a.dominant_offsets[c.dominant];
+    assert.ok(isPitch(d.offset), 'the candidate names its dominant offset');
+    assert.equal(d.significant, false);
+    assert.equal(d.rejected_by, d.tests.find((t) => !t.passed).name);
+
+    const p = s.promote([c.offset]);
+    assert.equal(p.ok, true, p.message);
+    assert.equal(p.analysis.principal_offsets.length, 1);
+    assert.ok(isPitch(p.analysis.principal_offsets[0]), JSON.stringify(p.analysis.principal_offsets));
+    assert.equal(p.analysis.dominant_offsets[c.dominant].promoted, true);
+    assert.equal(p.analysis.lattice_cells[p.analysis.resizable.indexOf(true)], 2, 'two cells along the pitch');
+    assert.equal(p.extras.dominant_normalized.length, p.analysis.dominant_offsets.length);
+    const t = s.retarget(1, 0, 0, 'lattice');
+    assert.equal(t.ok, true, t.message);
+    assert.deepEqual(t.report.steps_principal, [1]);
+    assert.ok(near(xSize(s.mesh('result')), 8.22, 1e-3), `3 pins: ${xSize(s.mesh('result'))} mm, expected 8.22`);
+    assert.ok(near(t.report.size_out[0], 8.22, 1e-3), `size_out ${t.report.size_out}`);
+
+    const back = s.promote([]);
+    assert.equal(back.ok, true, back.message);
+    assert.deepEqual(back.analysis.principal_offsets, [], 'the detected offsets again');
+    assert.ok(back.analysis.dominant_offsets.every((x) => !x.promoted));
+    assert.equal(s.mesh('result').ok, false, 'the result of the promoted offsets is gone');
+    assert.equal(s.retarget(1, 0, 0, 'lattice').code, 'no_repetition');
+  } finally {
+    s.delete();
+  }
+});
+
+test('a refused promotion leaves the analysis and the last result as they were', () => {
+  const s = new restitch.Session();
+  try {
+    s.loadSample('pin_header', { pins: 2 });
+    const a = s.analyze('shot', 'brute_force', null).analysis;
+    const c = a.candidates.find((k) => isPitch(k.offset));
+    const p = s.promote([c.offset]);
+    assert.equal(p.ok, true, p.message);
+    const before = s.retarget(1, 0, 0, 'lattice');
+    assert.equal(before.ok, true, before.message);
+    const bytes = s.saveGlb('result').bytes;
+    for (const bad of [[[0, 0, 0]], [c.offset, c.offset.map((x) => -x)], [[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]],
+                       [[1, 2]], [['1', 0, 0]], 'x', null]) {
+      const r = s.promote(bad);
+      assert.equal(r.ok, false, JSON.stringify(bad));
+      assert.equal(r.code, 'invalid_argument', JSON.stringify(bad));
+      assert.ok(r.message.length > 10, r.message);
+    }
+    assert.deepEqual(s.saveGlb('result').bytes, bytes, 'the result is still there');
+    const again = s.retarget(1, 0, 0, 'lattice');
+    assert.equal(again.ok, true, again.message);
+    assert.deepEqual(again.report, { ...before.report, timings_ms: again.report.timings_ms },
+                     'the same principal offsets as before the refused requests');
+  } finally {
+    s.delete();
+  }
+});
+
+// ../src/worker.js run in this process: its `self` is a stand-in whose postMessage answers the one fake Worker
+// the client made (asynchronously, as a real worker does).
+async function inProcessWorker() {
+  let current = null;
+  globalThis.self = { postMessage: (data) => setImmediate(() => current && current.onmessage({ data })) };
+  await import('../src/worker.js');
+  const handle = globalThis.self.onmessage;
+  return () => {
+    current = { postMessage: (data) => setImmediate(() => handle({ data })), terminate: () => { current = null; } };
+    return current;
+  };
+}
+
+test('the page\'s session through worker.js: the 2-pin header\'s candidate promoted, a resize to 3 pins', async () => {
+  const session = new PageSession(new WorkerClient(await inProcessWorker()),
+                                  { policy: () => ({ descriptor: 'shot', matcher: 'brute_force', detector: 'histogram' }) });
+  const catalog = await session.start();
+  assert.deepEqual(catalog.policies.detectors, ['histogram', 'autocorrelation']);
+  await session.load({ sample: { name: 'pin_header', params: { pins: 2 } } });
+  assert.equal(session.state.status, 'error');
+  assert.match(session.state.error, /candidate/);
+  const c = session.state.analysis.candidates.find((k) => isPitch(k.offset));
+  assert.ok(c, JSON.stringify(session.state.analysis.candidates));
+  const detected = session.state.analysis;
+  await assert.rejects(session.promote([c.offset, c.offset]), /too close in direction/);
+  assert.equal(session.state.analysis, detected, 'a refused promotion changes nothing');
+  const a = await session.promote([c.offset]);
+  assert.ok(isPitch(a.principal_offsets[0]));
+  assert.equal(session.state.status, 'ready');
+  const shown = await session.resize([1, 0, 0], 'lattice');
+  assert.ok(near(xSize(session.state.retarget.mesh), 8.22, 1e-3), `${xSize(session.state.retarget.mesh)} mm`);
+  assert.ok(shown.triangles > session.state.model.info.triangles);
+  const back = await session.promote([]);
+  assert.deepEqual(back.principal_offsets, []);
+  assert.equal(session.state.status, 'error');
+  await assert.rejects(session.resize([1, 0, 0], 'lattice'), /repetition/);
+});
+
+test('the autocorrelation detector is a compiled choice; an unknown detector is refused in words', () => {
+  const s = new restitch.Session();
+  try {
+    s.loadSample('fence', {});
+    const r = s.analyze('shot', 'reduced', 'autocorrelation', null);
+    assert.equal(r.ok, true, r.message);
+    assert.equal(r.analysis.detector, 'autocorrelation');
+    assert.ok(r.analysis.principal_offsets.length >= 1, JSON.stringify(r.analysis.principal_offsets));
+    const bad = s.analyze('shot', 'reduced', 'nope', null);
+    assert.equal(bad.code, 'invalid_argument');
+    assert.match(bad.message, /histogram, autocorrelation/);
   } finally {
     s.delete();
   }

@@ -20,8 +20,9 @@ if ! bash "$here/build.sh"; then
   exit 1
 fi
 
-echo "--- web demo: node tests (the module, the session state machine, the worker client)"
-node --test --test-reporter=tap "$here/module.test.mjs" "$here/session.test.mjs" "$here/worker-client.test.mjs" 2>&1 |
+echo "--- web demo: node tests (the module, the session state machine, the worker client, the peak words)"
+node --test --test-reporter=tap "$here/module.test.mjs" "$here/session.test.mjs" "$here/worker-client.test.mjs" \
+  "$here/peaks.test.mjs" 2>&1 |
   tee "$log/node.tap"
 p=$(grep -E '^# pass [0-9]+' "$log/node.tap" | tail -1 | awk '{print $3}')
 f=$(grep -E '^# fail [0-9]+' "$log/node.tap" | tail -1 | awk '{print $3}')

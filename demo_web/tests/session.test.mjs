@@ -60,11 +60,16 @@ const meshOf = (triangles) => ({ positions: new Float32Array(9 * triangles), ind
                                  groups: [] });
 const loaded = (triangles = 4) => ({ type: 'loaded', info: { triangles, bbox_min: [0, 0, 0], bbox_max: [1, 1, 1],
                                                              warnings: [] }, mesh: meshOf(triangles), glb: null });
-const analysed = (offsets = [[0.4, 0, 0]]) => ({
+const analysed = (offsets = [[0.4, 0, 0]], candidates = []) => ({
   type: 'analyzed', ms: 12,
-  analysis: { principal_offsets: offsets, resizable: [true, false, false], lattice_cells: [4, 1, 1] },
+  analysis: { principal_offsets: offsets, resizable: [offsets.length > 0, false, false], lattice_cells: [4, 1, 1],
+              candidates },
   extras: { match_offsets: new Float32Array(0), dominant_normalized: [] },
 });
+const promoted = (offsets, principal = offsets) => ({ ...analysed(principal), type: 'promoted', offsets });
+// The 2-pin header: no principal offset, its pitch a pair candidate.
+const pitch = [2.54, 0, 0];
+const pinHeader = () => analysed([], [{ offset: pitch, copies: 2, reason: 'pair', dominant: 0 }]);
 const retargeted = (steps, triangles) => ({ type: 'retargeted', steps, ms: 3, mesh: meshOf(triangles),
                                              result: { report: { steps_principal: steps.slice(0, 1) } } });
 
@@ -80,7 +85,7 @@ function makeSession() {
     await new Promise((resolve) => setImmediate(resolve));  // the page waits for a frame here
   };
   let t = 0;
-  const session = new Session(client, { hooks, policy: () => ({ descriptor: 'shot', matcher: 'reduced' }), now: () => (t += 5) });
+  const session = new Session(client, { hooks, policy: () => ({ descriptor: 'shot', matcher: 'reduced', detector: 'histogram' }), now: () => (t += 5) });
   return { session, client, calls, named: (name) => calls.filter((c) => c[0] === name) };
 }
 
@@ -120,7 +125,7 @@ test('a load goes loading -> analyzing -> ready, with the policy and the progres
   assert.equal(session.state.status, 'analyzing');
   assert.deepEqual(session.state.shown, { vertices: 12, triangles: 4 });
   const req = client.open('analyze')[0];
-  assert.deepEqual(req.payload, { descriptor: 'shot', matcher: 'reduced' });
+  assert.deepEqual(req.payload, { descriptor: 'shot', matcher: 'reduced', detector: 'histogram' });
   req.options.onProgress('matching', 0.5);
   assert.deepEqual(named('progress').at(-1), ['progress', 'matching', 0.5]);
   await client.answer(req, analysed());
@@ -302,4 +307,127 @@ test('start asks for the catalog; a failure is the error state', async () => {
   assert.equal(await resolved(failed), null);
   assert.equal(other.session.state.status, 'error');
   assert.match(other.session.state.error, /could not start: the WebAssembly module did not load/);
+});
+
+test('a promotion makes the 2-pin header resizable: the new analysis is shown, the sliders follow it', async () => {
+  const { session, client, named } = makeSession();
+  session.load({ sample: { name: 'pin_header', params: { pins: 2 } } });
+  await client.answer('load', loaded());
+  await client.answer('analyze', pinHeader());
+  assert.equal(session.state.status, 'error');
+  assert.match(session.state.error, /a candidate repeat .*Candidates/, 'the error points at the candidate');
+  const before = session.state.analysis;
+  const done = session.promote([pitch]);
+  const [req] = client.open('promote');
+  assert.deepEqual(req.payload, { offsets: [pitch] });
+  assert.equal(session.state.analysis, before, 'nothing changes before the answer');
+  await client.answer(req, promoted([pitch]));
+  const a = await resolved(done);
+  assert.deepEqual(a.principal_offsets, [pitch]);
+  assert.equal(session.state.analysis, a);
+  assert.deepEqual(session.state.promoted, [pitch]);
+  assert.equal(session.state.status, 'ready');
+  assert.equal(session.state.error, '');
+  assert.deepEqual(named('analysis').map((c) => c[1].principal_offsets), [[], [pitch]], 'the sliders were rebuilt');
+  const grown = session.resize([1, 0, 0], 'lattice');
+  await client.answer('retarget', retargeted([1, 0, 0], 9));
+  assert.equal((await resolved(grown)).triangles, 9);
+
+  // Back to the detected offsets: none, so the error state again, the result gone.
+  const back = session.promote([]);
+  await client.answer('promote', { ...pinHeader(), type: 'promoted', offsets: [] });
+  await resolved(back);
+  assert.deepEqual(session.state.promoted, []);
+  assert.equal(session.state.retarget, null, 'the input is shown again');
+  assert.deepEqual(session.state.shown, { vertices: 12, triangles: 4 });
+  assert.equal(session.state.status, 'error');
+  assert.match(session.state.error, /candidate/);
+});
+
+test('a refused promotion rejects in words and leaves analysis, result and promoted offsets as they were', async () => {
+  const { session, client, named } = await readySession();
+  const r = session.resize([1, 0, 0], 'lattice');
+  await client.answer('retarget', retargeted([1, 0, 0], 10));
+  await resolved(r);
+  const { analysis, extras, retarget, promoted: before } = session.state;
+  const shown = { ...session.state.shown };
+  const p = watch(session.promote([[0, 0, 0]]));
+  await client.fail('promote', 'offset 1 is zero or not finite', 'invalid_argument');
+  assert.equal(p.state, 'rejected');
+  assert.equal(p.value.message, 'offset 1 is zero or not finite');
+  assert.equal(p.value.superseded, undefined);
+  assert.equal(session.state.analysis, analysis);
+  assert.equal(session.state.extras, extras);
+  assert.equal(session.state.retarget, retarget, 'the result is still shown');
+  assert.deepEqual(session.state.shown, shown);
+  assert.equal(session.state.promoted, before);
+  assert.equal(named('analysis').length, 1, 'the sliders were not rebuilt');
+  assert.equal(session.state.status, 'error');
+  assert.match(session.state.error, /offset 1 is zero or not finite/);
+  const next = session.resize([2, 0, 0], 'lattice');  // the model is still resizable, and that recovers
+  await client.answer('retarget', retargeted([2, 0, 0], 12));
+  assert.equal((await resolved(next)).triangles, 12);
+  assert.equal(session.state.status, 'ready');
+});
+
+test('promotions are latest-wins; resizes wait for them and those asked for meanwhile are dropped', async () => {
+  const { session, client, named } = await readySession();
+  const running = watch(session.resize([1, 0, 0], 'lattice'));
+  const A = [[0.4, 0, 0]], B = [[0, 0.3, 0]], C = [[0, 0, 0.2]];
+  const first = watch(session.promote(A));
+  const middle = watch(session.promote(B));
+  const last = watch(session.promote(C));
+  await flush();
+  assert.deepEqual(client.sent('promote').map((q) => q.payload.offsets), [A], 'one promotion in flight at a time');
+  assert.equal(middle.state, 'rejected');
+  assert.equal(middle.value.superseded, true, middle.value.message);
+  const waiting = watch(session.resize([2, 0, 0], 'lattice'));
+  await flush();
+  assert.equal(client.sent('retarget').length, 1, 'no resize is sent while a promotion runs');
+  await client.answer('retarget', retargeted([1, 0, 0], 10));  // asked before the promotion: still shown
+  assert.equal(running.state, 'fulfilled');
+  await client.answer('promote', promoted(A));
+  assert.equal(first.state, 'fulfilled');
+  assert.deepEqual(session.state.promoted, A);
+  assert.equal(session.state.retarget, null);
+  assert.equal(waiting.state, 'rejected', 'its steps referred to the old offsets');
+  assert.match(waiting.value.message, /principal offsets changed/);
+  assert.notEqual(waiting.value.superseded, true);
+  assert.deepEqual(client.sent('promote').map((q) => q.payload.offsets), [A, C]);
+  await client.answer('promote', promoted(C));
+  assert.equal(last.state, 'fulfilled');
+  assert.deepEqual(session.state.promoted, C);
+  assert.deepEqual(named('analysis').map((c) => c[1].principal_offsets), [[[0.4, 0, 0]], A, C]);
+  assert.equal(client.sent('retarget').length, 1, 'the dropped resize never reached the worker');
+  const after = session.resize([1, 0, 0], 'lattice');
+  await client.answer('retarget', retargeted([1, 0, 0], 11));
+  assert.equal((await resolved(after)).triangles, 11);
+});
+
+test('a load or a re-analysis drops a promotion in flight; no promotion before an analysis', async () => {
+  const { session, client } = await readySession();
+  const p = watch(session.promote([[0.4, 0, 0]]));
+  const [old] = client.open('promote');
+  session.load({ sample: { name: 'fence', params: {} } });
+  await flush();
+  assert.equal(p.state, 'rejected');
+  assert.match(p.value.message, /new model/);
+  await client.answer(old, promoted([[9, 9, 9]]));
+  assert.equal(session.state.analysis, null, 'the old model\'s promotion is not taken');
+  const early = watch(session.promote([[0.4, 0, 0]]));
+  await flush();
+  assert.equal(early.state, 'rejected');
+  assert.match(early.value.message, /no analysed model/);
+  await client.answer('load', loaded());
+  await client.answer('analyze', analysed());
+  assert.equal(session.state.status, 'ready');
+  const q = watch(session.promote([[0.4, 0, 0]]));
+  session.reanalyze();
+  await flush();
+  assert.equal(q.state, 'rejected');
+  await client.answer('promote', promoted([[7, 7, 7]]));
+  assert.equal(session.state.analysis, null, 'dropped: the model is being analysed again');
+  await client.answer('analyze', analysed([[0.5, 0, 0]]));
+  assert.deepEqual(session.state.analysis.principal_offsets, [[0.5, 0, 0]]);
+  assert.deepEqual(session.state.promoted, []);
 });

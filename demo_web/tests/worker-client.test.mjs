@@ -1,9 +1,11 @@
 // Node tests of the page's worker client (src/worker-client.js) with a fake Worker: ids matched to answers,
-// progress, errors with their code, transfer lists, and restarts cancelling what was pending.
+// progress, errors with their code, transfer lists, and restarts cancelling what was pending; and the page's
+// Session over it, answered by hand the way ../src/worker.js answers (the promote flow).
 // Run: node --test demo_web/tests/worker-client.test.mjs (tests/run.sh runs it with the other node tests).
 import test from 'node:test';
 import assert from 'node:assert/strict';
 import { WorkerClient } from '../src/worker-client.js';
+import { Session } from '../src/session.js';
 
 class FakeWorker {
   posted = [];  // [message, transfer]
@@ -87,4 +89,40 @@ test('a worker that fails to start rejects what was pending with code internal',
   assert.equal(r[1].code, 'internal');
   assert.match(r[1].message, /failed to start \(SyntaxError in worker\.js\)/);
   assert.ok(prevented);
+});
+
+test('a Session over the client: promote posts the offsets, a refusal changes nothing, the answer replaces the analysis', async () => {
+  const { client, worker } = makeClient();
+  const session = new Session(client, { now: () => 0 });
+  const last = () => worker().posted.at(-1)[0];
+  const tick = () => new Promise((r) => setImmediate(r));
+  const mesh = { positions: new Float32Array(9), indices: new Uint32Array(3), groups: [] };
+  session.load({ sample: { name: 'pin_header', params: { pins: 2 } } });
+  worker().reply({ type: 'loaded', id: last().id, info: { triangles: 1, bbox_min: [0, 0, 0], bbox_max: [1, 1, 1] }, mesh });
+  await tick();
+  const detected = { principal_offsets: [], resizable: [false, false, false], lattice_cells: [1, 1, 1],
+                     candidates: [{ offset: [2.54, 0, 0], copies: 2, reason: 'pair', dominant: 0 }] };
+  worker().reply({ type: 'analyzed', id: last().id, analysis: detected, extras: {}, ms: 1 });
+  await tick();
+  assert.equal(session.state.status, 'error');
+
+  const refused = state(session.promote([[0, 0, 0]]));
+  assert.equal(last().type, 'promote');
+  assert.deepEqual(last().offsets, [[0, 0, 0]]);
+  worker().reply({ type: 'error', id: last().id, request: 'promote', code: 'invalid_argument',
+                   message: 'offset 1 is zero or not finite' });
+  const r = await refused;
+  assert.equal(r[0], 'rejected');
+  assert.equal(r[1].message, 'offset 1 is zero or not finite');
+  assert.equal(session.state.analysis, detected, 'the analysis is unchanged');
+  assert.deepEqual(session.state.promoted, []);
+
+  const done = state(session.promote([[2.54, 0, 0]]));
+  const next = { ...detected, principal_offsets: [[2.54, 0, 0]], resizable: [true, false, false] };
+  worker().reply({ type: 'promoted', id: last().id, offsets: last().offsets, analysis: next, extras: {}, ms: 2 });
+  assert.deepEqual(await done, ['fulfilled', next]);
+  assert.equal(session.state.analysis, next);
+  assert.equal(session.state.status, 'ready');
+  session.resize([1, 0, 0], 'lattice');
+  assert.deepEqual([last().type, last().steps], ['retarget', [1, 0, 0]], 'resizes go out again');
 });
