@@ -64,7 +64,7 @@ bool offsets_are_triples(const PolicyNames& policies) {
 namespace {
 std::string v3(const Eigen::Vector3d& v) {
   char buf[96];
-  std::snprintf(buf, sizeof buf, "(%.5g, %.5g, %.5g)", v.x() + 0.0, v.y() + 0.0, v.z() + 0.0);  // + 0.0: no "-0"
+  std::snprintf(buf, sizeof buf, "(%.5g, %.5g, %.5g)", printable(v.x()), printable(v.y()), printable(v.z()));
   return std::string(buf);
 }
 
@@ -89,11 +89,11 @@ void print_dominant_offsets(const Analysis& a) {
 void print_candidates(const Analysis& a) {
   for (std::size_t i = 0; i < a.candidates.size(); ++i) {
     const RepeatCandidate& c = a.candidates[i];
-    const Eigen::Vector3d v = (a.model_units(c).array() + 0.0).matrix();  // + 0.0: no "-0"
+    const Eigen::Vector3d v = a.model_units(c);
     std::printf("  candidate %zu: %s, length %.5g, %s (%s%d copies): resize along it with --offsets %.6g,%.6g,%.6g\n",
                 i + 1, v3(v).c_str(), v.norm(),
                 c.reason == "pair" ? "a pair" : "parallel to a principal offset", c.reason == "pair" ? "" : "about ",
-                c.copies, v.x(), v.y(), v.z());
+                c.copies, printable(v.x()), printable(v.y()), printable(v.z()));
   }
 }
 

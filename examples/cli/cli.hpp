@@ -36,6 +36,9 @@ Progress terminal_progress();
 /// Writes `j` to FILE, or to stdout for "-" (temporary file + rename for files).
 Status write_json(const nlohmann::json& j, const std::string& where);
 
+/// x, or +0 for -0: printed offsets never show "-0".
+inline double printable(double x) { return x == 0 ? 0.0 : x; }
+
 /// The analysis policies chosen on the command line (--descriptor, --matcher, --detector).
 struct PolicyNames {
   std::string descriptor = "shot", matcher = "brute_force", detector = "histogram";

@@ -49,9 +49,10 @@ Status use_candidates_for_size(const ResizeArgs& args, const Mesh& mesh, Analysi
     const RepeatCandidate& cand = a.candidates[std::size_t(c)];
     offsets.push_back(a.model_units(cand));
     const Eigen::Vector3d& v = offsets.back();
-    if (!quiet)  // + 0.0: no "-0"
+    if (!quiet)
       std::printf("no principal offset runs along %c: using candidate %d (%.5g, %.5g, %.5g) (%s, %d copies)\n",
-                  "xyz"[world_axis_of(cand.offset)], c + 1, v.x() + 0.0, v.y() + 0.0, v.z() + 0.0, cand.reason.c_str(),
+                  "xyz"[world_axis_of(cand.offset)], c + 1, printable(v.x()), printable(v.y()), printable(v.z()),
+                  cand.reason.c_str(),
                   cand.copies);
   }
   return promote_offsets_named(mesh, offsets, a);
