@@ -26,7 +26,8 @@ std::string join(const std::vector<int>& v) {
 namespace {
 
 struct ResizeArgs {
-  std::string input, output, json, dump_mrf, labels = "lattice";
+  std::string input, output, json, dump_mrf, labels = "lattice", pivot = "origin";
+  bool exact = false;
   PolicyNames policies;
   std::vector<int> steps;
   std::vector<double> size;
@@ -38,10 +39,8 @@ struct ResizeArgs {
 Status use_candidates_for_size(const ResizeArgs& args, const Mesh& mesh, Analysis& a, bool quiet) {
   if (args.size.empty() || !args.policies.offsets.empty()) return {};
   const Eigen::Vector3d size_in = bounding_box(mesh).size();
-  std::array<bool, 3> change{{false, false, false}};
-  for (int k = 0; k < 3; ++k)
-    change[std::size_t(k)] = args.size[std::size_t(k)] != 0 &&
-                             std::abs(args.size[std::size_t(k)] - size_in[k]) > 1e-9 * size_in.norm();
+  const std::array<bool, 3> change =
+      size_changes(Eigen::Vector3d(args.size[0], args.size[1], args.size[2]), size_in);
   const std::vector<int> use = a.candidates_for_axes(change);
   if (use.empty()) return {};
   std::vector<Eigen::Vector3d> offsets;
@@ -70,6 +69,7 @@ Result<Eigen::Array3i> requested_steps(const ResizeArgs& args, const Analysis& a
 
 void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen::Array3i& steps,
                           const RetargetReport& rep) {
+  const Placement& p = rep.placement;
   const auto principal = a.principal_model_units();
   std::printf("%s: %zu principal offset(s)", args.input.c_str(), principal.size());
   for (const auto& v : principal) std::printf("  (%.4g, %.4g, %.4g)", v.x(), v.y(), v.z());
@@ -79,6 +79,13 @@ void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen
   std::printf("  graph cut (%s labels): %d nodes, %d labels, %d cycles, energy %.6g, solve %.1f ms\n",
               args.labels.c_str(), rep.nodes, rep.labels, rep.cycles, rep.energy,
               rep.timings_ms.count("solve") ? rep.timings_ms.at("solve") : 0.0);
+  std::printf("  pivot %s,%s,%s at (%.5g, %.5g, %.5g): translated by (%.5g, %.5g, %.5g)\n", pivot_name(p.modes[0]),
+              pivot_name(p.modes[1]), pivot_name(p.modes[2]), printable(p.pivot.x()), printable(p.pivot.y()),
+              printable(p.pivot.z()), printable(p.translation.x()), printable(p.translation.y()),
+              printable(p.translation.z()));
+  if (rep.exact)
+    std::printf("  exact: %.4g x %.4g x %.4g scaled by %.6g x %.6g x %.6g about the pivot\n", rep.size_nearest.x(),
+                rep.size_nearest.y(), rep.size_nearest.z(), rep.scale.x(), rep.scale.y(), rep.scale.z());
   std::printf("  size %.4g x %.4g x %.4g -> %.4g x %.4g x %.4g\n", rep.size_in.x(), rep.size_in.y(), rep.size_in.z(),
               rep.size_out.x(), rep.size_out.y(), rep.size_out.z());
   std::printf("  wrote %s: %zu triangles in, %zu out\n", args.output.c_str(), rep.triangles_in, rep.triangles_out);
@@ -91,6 +98,13 @@ int run_resize(const ResizeArgs& args) {
     return exit_usage;
   }
   if (!offsets_are_triples(args.policies)) return exit_usage;
+  Result<Pivots> pivots = parse_pivots(args.pivot);
+  if (!pivots) {
+    std::fprintf(stderr, "restitch resize: --pivot: %s\n", pivots.status().message().c_str());
+    return exit_usage;
+  }
+  if (!args.size.empty())  // before the (slow) analysis
+    if (Status s = check_size_values(Eigen::Vector3d(args.size[0], args.size[1], args.size[2])); !s) return fail(s);
   const bool quiet = args.json == "-";
   Mesh mesh;
   Result<Analysis> a = load_and_analyze(args.input, args.policies, mesh, quiet);
@@ -98,6 +112,7 @@ int run_resize(const ResizeArgs& args) {
   if (Status s = use_candidates_for_size(args, mesh, *a, quiet); !s) return fail(s);
   RetargetOptions options;
   options.max_problem_size = args.max_problem;
+  options.pivot = *pivots;
   AnyRetargeter r(mesh, *a, args.labels, options);
   if (!r.status()) return fail(r.status());
   Result<Eigen::Array3i> steps = requested_steps(args, *a, r, quiet);
@@ -107,7 +122,11 @@ int run_resize(const ResizeArgs& args) {
     if (!problem) return fail(problem.status());
     if (Status s = write_mrf(args.dump_mrf, *problem); !s) return fail(s, true);
   }
-  Result<RetargetResult> out = r.retarget(*steps, terminal_progress());
+  Result<RetargetResult> out =
+      args.size.empty()
+          ? r.retarget(*steps, terminal_progress())
+          : r.retarget_to_size(Eigen::Vector3d(args.size[0], args.size[1], args.size[2]), args.exact,
+                               terminal_progress());
   if (!out) return fail(out.status());
   if (Status s = save_gltf(out->mesh, args.output); !s) return fail(s, true);
   nlohmann::json j = retarget_json(out->report);
@@ -136,6 +155,14 @@ void register_resize(CLI::App& app, int* exit_code) {
                    ->delimiter(',')
                    ->expected(3);
   steps->excludes(size);
+  cmd->add_option("--pivot", args->pivot,
+                  "what stays put: origin (the model's origin, clamped into its box), min, center or max; one for "
+                  "all axes or x,y,z (e.g. min,origin,max)")
+      ->capture_default_str();
+  cmd->add_flag("--exact", args->exact,
+                "with --size: scale the nearest whole-repeat result along each asked axis about the pivot to the "
+                "exact size (factors reported)")
+      ->needs(size);
   add_policy_options(cmd, args->policies);
   cmd->add_option("--labels", args->labels,
                   "label space: lattice (principal offsets) or regular (the paper's baseline)")

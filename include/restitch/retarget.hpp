@@ -12,6 +12,14 @@
 // and stitches the labelled cells into a triangle mesh (stitcher policy).
 // Steps of zero return the input geometry unchanged (a copy of the mesh).
 //
+// Placement (restitch/placement.hpp, docs/method.md 2.7): the result is
+// translated by whole periods so that the pivot of each world axis stays put
+// (RetargetOptions::pivot, default the model's origin; `set_pivot` changes it
+// between requests). The report says which pivot point and translation were
+// used. `retarget_to_size` asks for a bounding-box size instead of steps: the
+// nearest whole repeats, and with `exact` a scale along each asked axis about
+// the pivot that brings the box to the size exactly (factors reported).
+//
 // Reuse: a Retargeter keeps everything that does not depend on the size:
 // the label grid, the features grouped by cell with every cell-set distance
 // computed so far, and the stitcher's prepared cache. That is what the live
@@ -30,7 +38,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -40,6 +50,7 @@
 #include "restitch/analysis.hpp"
 #include "restitch/energy/seam_energy.hpp"
 #include "restitch/lattice/label_space.hpp"
+#include "restitch/placement.hpp"
 #include "restitch/solver/alpha_expansion.hpp"
 #include "restitch/stitch/stitch.hpp"
 
@@ -52,6 +63,8 @@ struct RetargetOptions {
   std::size_t max_problem_size = 2'000'000;
   /// Also report, for every output face, the index of the label of the cell it lies in (for display).
   bool face_labels = false;
+  /// What stays put along each world axis x, y, z (restitch/placement.hpp): by default the model's origin.
+  Pivots pivot{{Pivot::origin, Pivot::origin, Pivot::origin}};
 };
 
 struct RetargetReport {
@@ -65,12 +78,18 @@ struct RetargetReport {
   Eigen::Vector3d size_in = Eigen::Vector3d::Zero(),
                   size_out = Eigen::Vector3d::Zero();  ///< bounding boxes, model units
   std::map<std::string, double> timings_ms;            ///< energy, solve, stitch, total (informative only)
+  Placement placement;  ///< the pivot modes and point, and the translation applied (restitch/placement.hpp)
+  /// retarget_to_size with exact: the scale applied per world axis about placement.pivot (1 = none), and
+  /// the size of the nearest whole-repeat result before it.
+  bool exact = false;
+  Eigen::Vector3d scale = Eigen::Vector3d::Ones();
+  Eigen::Vector3d size_nearest = Eigen::Vector3d::Zero();
 };
 
 struct RetargetResult {
   Mesh mesh;
   RetargetReport report;
-  Lattice grid;                        ///< the grid the labels live on (model units)
+  Lattice grid;                        ///< the grid the labels live on, as placed in the output (model units)
   std::vector<Eigen::Array3i> labels;  ///< the label shifts, by label index
   std::vector<int> cell_labels;        ///< label index per output cell (linear order)
   std::vector<int> face_labels;        ///< label index per output face (when requested)
@@ -89,6 +108,38 @@ struct stitch_cache<S, true> {
 template <class S>
 using stitch_cache_t = typename stitch_cache<S>::type;
 }  // namespace detail
+
+namespace detail {
+inline std::string format_size(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
+}  // namespace detail
+
+/// ok when every component of a target size is finite and >= 0 (0 keeps an axis); else an
+/// invalid_argument naming the first axis that is not.
+inline Status check_size_values(const Eigen::Vector3d& target) {
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(target[i]) || target[i] < 0) {
+      const std::string axis(1, "xyz"[i]);
+      return error(StatusCode::invalid_argument, "the size asked along " + axis + " (" +
+                                                     detail::format_size(target[i]) +
+                                                     ") is not a positive number; give 0 to keep " + axis);
+    }
+  return {};
+}
+
+/// Per world axis: does `target` (0 keeps an axis) ask a model of bounding-box size `size` to change
+/// along it? Within 1e-5 of the current size (relative, at least 1e-8 of the box diagonal) is no change,
+/// so a size typed from a printed one is no change.
+inline std::array<bool, 3> size_changes(const Eigen::Vector3d& target, const Eigen::Vector3d& size) {
+  std::array<bool, 3> out{{false, false, false}};
+  for (int i = 0; i < 3; ++i)
+    out[std::size_t(i)] =
+        target[i] != 0 && !(std::abs(target[i] - size[i]) <= 1e-5 * std::max(size[i], 1e-3 * size.norm()));
+  return out;
+}
 
 template <class LabelSpace = LatticeLabels, class Solver = AlphaExpansion<>, class Stitcher = ClipStitcher>
 class Retargeter {
@@ -117,13 +168,17 @@ class Retargeter {
     if (!status_) return;
     cells_ = std::make_unique<CellDescriptors>(analysis, grid_, options_.set_distance);
     if constexpr (has_prepared_stitch_v<Stitcher>) status_ = stitcher_.prepare(mesh, grid_, cache_);
-    size_in_ = bounding_box(mesh).size();
+    box_in_ = bounding_box(mesh);
+    size_in_ = box_in_.size();
   }
 
   /// ok when the grid and caches were built; otherwise why not.
   const Status& status() const { return status_; }
   const Lattice& grid() const { return grid_; }
   static constexpr const char* label_space_name() { return LabelSpace::name; }
+  /// The pivots of the following requests (RetargetOptions::pivot); nothing cached depends on them.
+  void set_pivot(const Pivots& pivot) { options_.pivot = pivot; }
+  const RetargetOptions& options() const { return options_; }
 
   /// Resizes by `steps` along the principal offsets (see the header comment).
   Result<RetargetResult> retarget(const Eigen::Array3i& steps, const Progress& progress = {}) {
@@ -146,6 +201,8 @@ class Retargeter {
       rep.triangles_out = rep.triangles_in;
       rep.vertices_out = out.mesh.vertex_count();
       rep.size_out = size_in_;
+      rep.placement = place(analysis_->lattice, box_in_, rep.steps, options_.pivot);
+      rep.size_nearest = size_in_;
       out.labels = {Eigen::Array3i::Zero()};
       out.cell_labels.assign(std::size_t(nodes), 0);
       if (options_.face_labels) out.face_labels.assign(out.mesh.triangle_count(), 0);
@@ -187,8 +244,13 @@ class Retargeter {
     rep.regions = st.regions;
     rep.triangles_out = out.mesh.triangle_count();
     rep.vertices_out = out.mesh.vertex_count();
-    rep.size_out = out.mesh.empty() ? Eigen::Vector3d::Zero() : bounding_box(out.mesh).size();
     if (options_.face_labels) out.face_labels = face_labels(out.mesh, CellGrid(rep.cells_out), labelling);
+    // Placement: whole periods, so that the pivot stays put (placement.hpp).
+    rep.placement = place(analysis_->lattice, box_in_, rep.steps, options_.pivot);
+    translate(out.mesh, rep.placement.translation);
+    out.grid.origin += rep.placement.translation;
+    rep.size_out = out.mesh.empty() ? Eigen::Vector3d::Zero() : bounding_box(out.mesh).size();
+    rep.size_nearest = rep.size_out;
     rep.timings_ms["total"] = ms_since(t0);
     progress.report("stitching", 1.0);
     if (out.mesh.empty())
@@ -205,10 +267,15 @@ class Retargeter {
   }
 
   /// The steps whose result's bounding box is nearest to `target` (model
-  /// units; a component <= 0 means "keep"). Searches every achievable step
-  /// count along each principal offset (at most `max_steps` added).
+  /// units; a component of 0 keeps that axis). Searches every achievable step
+  /// count along each principal offset (at most `max_steps` added). Refused
+  /// (invalid_argument, naming the axis): a negative or non-finite component,
+  /// and a size change along a world axis no principal offset runs along
+  /// (world_axis_of). A component equal to the current size (within 1e-5 of
+  /// it, relative) is no change.
   Result<Eigen::Array3i> steps_for_size(const Eigen::Vector3d& target, int max_steps = 64) const {
     RESTITCH_TRY(status_);
+    RESTITCH_TRY(check_size(target));
     const Lattice& L = analysis_->lattice;
     Eigen::Vector3d want = target;
     for (int i = 0; i < 3; ++i)
@@ -229,6 +296,49 @@ class Retargeter {
           if (err < best_err - 1e-12) best_err = err, best = s;
         }
     return best;
+  }
+
+  /// Resizes to the bounding-box size `target` (model units, 0 keeps an axis): the nearest whole repeats
+  /// (steps_for_size), placed about the pivot. With `exact`, the result is then scaled along every world
+  /// axis asked for (component > 0) about the pivot point, by target / size, so its box is `target`
+  /// exactly (to float rounding); the report gives the factors and the size before scaling.
+  Result<RetargetResult> retarget_to_size(const Eigen::Vector3d& target, bool exact, const Progress& progress = {}) {
+    Result<Eigen::Array3i> steps = steps_for_size(target);
+    RESTITCH_TRY(steps.status());
+    Result<RetargetResult> out = retarget(*steps, progress);
+    RESTITCH_TRY(out.status());
+    RetargetReport& rep = out->report;
+    if (!exact) return out;
+    rep.exact = true;
+    for (int i = 0; i < 3; ++i)
+      if (target[i] > 0 && rep.size_out[i] > 0) rep.scale[i] = target[i] / rep.size_out[i];
+    if (rep.scale != Eigen::Vector3d::Ones()) {
+      const Eigen::Vector3d& p = rep.placement.pivot;
+      scale_about(out->mesh, rep.scale, p);
+      out->grid.A = rep.scale.asDiagonal() * out->grid.A;
+      out->grid.origin = p + rep.scale.asDiagonal() * (out->grid.origin - p);
+      rep.size_out = bounding_box(out->mesh).size();
+    }
+    return out;
+  }
+
+  /// ok, or why `target` cannot be asked for (see steps_for_size).
+  Status check_size(const Eigen::Vector3d& target) const {
+    const Lattice& L = analysis_->lattice;
+    std::array<bool, 3> covered{{false, false, false}};
+    for (int a = 0; a < 3; ++a)
+      if (!L.dummy[a]) covered[std::size_t(world_axis_of(L.A.col(a)))] = true;
+    RESTITCH_TRY(check_size_values(target));
+    const std::array<bool, 3> change = size_changes(target, size_in_);
+    for (int i = 0; i < 3; ++i) {
+      const std::string axis(1, "xyz"[i]);
+      if (change[std::size_t(i)] && !covered[std::size_t(i)])
+        return error(StatusCode::invalid_argument,
+                     "no repeat runs along " + axis + ", so its size cannot change (asked " +
+                         format_size(target[i]) + ", the model is " + format_size(size_in_[i]) +
+                         "); give 0 to keep " + axis);
+    }
+    return {};
   }
 
  private:
@@ -286,6 +396,9 @@ class Retargeter {
   std::unique_ptr<CellDescriptors> cells_;
   detail::stitch_cache_t<Stitcher> cache_;  // the stitcher's prepared cache, when it has one
   Eigen::Vector3d size_in_ = Eigen::Vector3d::Zero();
+  BoundingBox box_in_;
+
+  static std::string format_size(double x) { return detail::format_size(x); }
 };
 
 /// Lattice steps from steps along the principal offsets in order (the i-th

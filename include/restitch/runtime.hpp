@@ -134,6 +134,26 @@ class AnyRetargeter {
         },
         r_);
   }
+  /// Retargeter::retarget_to_size of the chosen label space.
+  Result<RetargetResult> retarget_to_size(const Eigen::Vector3d& size, bool exact, const Progress& progress = {}) {
+    RESTITCH_TRY(status());
+    return std::visit(
+        [&](auto& r) -> Result<RetargetResult> {
+          if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>)
+            return error(StatusCode::internal, "no retargeter");
+          else
+            return r.retarget_to_size(size, exact, progress);
+        },
+        r_);
+  }
+  /// Retargeter::set_pivot of the chosen label space.
+  void set_pivot(const Pivots& pivot) {
+    std::visit(
+        [&](auto& r) {
+          if constexpr (!std::is_same_v<std::decay_t<decltype(r)>, std::monostate>) r.set_pivot(pivot);
+        },
+        r_);
+  }
   Result<Eigen::Array3i> steps_for_size(const Eigen::Vector3d& size) const {
     RESTITCH_TRY(status());
     return std::visit(

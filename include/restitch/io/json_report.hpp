@@ -21,7 +21,8 @@
 //   descriptor, matcher, detector (the offset detector's name), timings_ms {stage: ms}.
 // retarget_json: steps, grid_steps, nodes, labels, edges, cycles, energy,
 //   non_metric, cells_in, cells_out, size_in, size_out, timings_ms,
-//   output {vertices, triangles}.
+//   output {vertices, triangles}, pivot {modes, point, translation, low_end_cells},
+//   exact {applied, scale, size_nearest}.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -99,6 +100,12 @@ inline nlohmann::json retarget_json(const RetargetReport& r) {
   j["size_out"] = detail::vec3(r.size_out);
   j["timings_ms"] = r.timings_ms;
   j["output"] = {{"vertices", r.vertices_out}, {"triangles", r.triangles_out}};
+  const Placement& p = r.placement;
+  j["pivot"] = {{"modes", {pivot_name(p.modes[0]), pivot_name(p.modes[1]), pivot_name(p.modes[2])}},
+                {"point", detail::vec3(p.pivot)},
+                {"translation", detail::vec3(p.translation)},
+                {"low_end_cells", detail::arr3(p.low_cells)}};
+  j["exact"] = {{"applied", r.exact}, {"scale", detail::vec3(r.scale)}, {"size_nearest", detail::vec3(r.size_nearest)}};
   return j;
 }
 

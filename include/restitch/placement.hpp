@@ -1,0 +1,171 @@
+// restitch/placement.hpp - where a resized model sits, and exact sizes (docs/method.md 2.7).
+//
+// The stitched result keeps the input's canonical cell 0 in place and grows
+// at the far end of every lattice axis. `place` turns that into what a
+// modeller expects: a *pivot* stays put and growth goes away from it. The
+// pivot is chosen per world axis x, y, z:
+//
+//   origin  (default) the model's origin (0,0,0), clamped into its bounding
+//           box. Along a lattice axis the input cell holding it decides: the
+//           first cell keeps that end fixed, the last cell keeps that end
+//           fixed, any other cell grows (or shrinks) both ways, split evenly.
+//           A single-cell axis keeps the end of the half the origin lies in.
+//   min     the end at the bounding box's minimum stays fixed.
+//   max     the end at the bounding box's maximum stays fixed.
+//   center  growth is split evenly between both ends.
+//
+// An even split of an odd count puts the odd cell on the max side: +3 adds 1
+// cell at the min end and 2 at the max end, -3 removes 1 and 2. A lattice
+// axis takes the pivot of the world axis it runs along (world_axis_of).
+// Growth is in whole lattice cells, so the translation applied is a whole
+// number of periods along every principal offset: -(cells added at the low
+// end) * v_a, summed over the axes. Repeated parts of the result therefore
+// lie exactly where the input's lie. The pivot *point* reported (per world
+// axis: the clamped origin, the box minimum, centre or maximum) is where the
+// pivot is; with an odd split of `center` (or of `origin` in a middle cell)
+// the content there moves by half a period, since a cell cannot be split.
+//
+// Exact sizes: `scale_about` scales a mesh along the world axes about a
+// point (positions, normals by the inverse transpose, tangents), which the
+// retargeter uses to bring the nearest whole-repeat result to an asked size.
+//
+// Cost: O(1) for `place`, O(#V) for `scale_about`. Nothing throws.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "restitch/analysis.hpp"
+#include "restitch/lattice/lattice.hpp"
+#include "restitch/mesh.hpp"
+#include "restitch/status.hpp"
+
+namespace restitch {
+
+/// What stays put along one world axis when a model is resized (see the file comment).
+enum class Pivot { origin, min, center, max };
+/// One pivot per world axis x, y, z.
+using Pivots = std::array<Pivot, 3>;
+
+inline const char* pivot_name(Pivot p) {
+  switch (p) {
+    case Pivot::origin: return "origin";
+    case Pivot::min: return "min";
+    case Pivot::center: return "center";
+    case Pivot::max: return "max";
+  }
+  return "origin";
+}
+
+/// "origin", "min", "center" or "max" for all three axes, or three of them comma-separated for x,y,z.
+inline Result<Pivots> parse_pivots(const std::string& text) {
+  auto one = [](const std::string& s, Pivot& out) {
+    for (Pivot p : {Pivot::origin, Pivot::min, Pivot::center, Pivot::max})
+      if (s == pivot_name(p)) return out = p, true;
+    return false;
+  };
+  std::array<std::string, 3> parts;
+  int n = 0;
+  std::string cur;
+  for (const char c : text + ",") {
+    if (c != ',') {
+      cur += c;
+      continue;
+    }
+    if (n == 3) return error(StatusCode::invalid_argument, "pivot '" + text + "': give one value or three (x,y,z)");
+    parts[std::size_t(n++)] = cur;
+    cur.clear();
+  }
+  if (n != 1 && n != 3) return error(StatusCode::invalid_argument, "pivot '" + text + "': give one value or three (x,y,z)");
+  Pivots out{};
+  for (int a = 0; a < 3; ++a) {
+    const std::string& s = parts[std::size_t(n == 1 ? 0 : a)];
+    if (!one(s, out[std::size_t(a)]))
+      return error(StatusCode::invalid_argument, "pivot '" + s + "'" + (n == 3 ? std::string(" for ") + "xyz"[a] : "") +
+                                                     ": known are origin, min, center, max");
+  }
+  return out;
+}
+
+/// Where a resize puts its result (model units unless said otherwise).
+struct Placement {
+  Pivots modes{{Pivot::origin, Pivot::origin, Pivot::origin}};
+  Eigen::Vector3d pivot = Eigen::Vector3d::Zero();        ///< the pivot point, per world axis (file comment)
+  Eigen::Array3i low_cells = Eigen::Array3i::Zero();      ///< cells added (< 0: removed) at each lattice axis's low end
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();  ///< applied to the stitched result: -A * low_cells
+};
+
+/// The placement of a resize by lattice `steps` (per axis of `L`, the analysis lattice) of a model whose
+/// bounding box is `box`, with `modes` per world axis.
+inline Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& steps, const Pivots& modes) {
+  Placement out;
+  out.modes = modes;
+  const Eigen::Vector3d origin = Eigen::Vector3d::Zero().cwiseMax(box.min).cwiseMin(box.max);
+  for (int w = 0; w < 3; ++w) switch (modes[std::size_t(w)]) {
+      case Pivot::origin: out.pivot[w] = origin[w]; break;
+      case Pivot::min: out.pivot[w] = box.min[w]; break;
+      case Pivot::center: out.pivot[w] = box.center()[w]; break;
+      case Pivot::max: out.pivot[w] = box.max[w]; break;
+    }
+  const Eigen::Vector3d c = L.to_canonical(origin);
+  for (int a = 0; a < 3; ++a) {
+    const int k = steps[a];
+    if (L.dummy[a] || k == 0) continue;
+    const int w = world_axis_of(L.A.col(a));
+    const bool low_is_min = L.A(w, a) > 0;  // the sign rule of docs/method.md 1.6 makes this the usual case
+    const int keep_low = 0, keep_high = k;
+    const int split = low_is_min ? k / 2 : k - k / 2;  // k / 2 truncates: the odd cell goes to the max side
+    int low = keep_low;
+    switch (modes[std::size_t(w)]) {
+      case Pivot::min: low = low_is_min ? keep_low : keep_high; break;
+      case Pivot::max: low = low_is_min ? keep_high : keep_low; break;
+      case Pivot::center: low = split; break;
+      case Pivot::origin: {
+        const int n = L.cells[a];
+        const int j = std::clamp(int(std::floor(c[a])), 0, n - 1);
+        if (n == 1)
+          low = c[a] < 0.5 ? keep_low : keep_high;
+        else if (j == 0)
+          low = keep_low;
+        else if (j == n - 1)
+          low = keep_high;
+        else
+          low = split;
+        break;
+      }
+    }
+    out.low_cells[a] = low;
+    out.translation -= double(low) * L.A.col(a);
+  }
+  return out;
+}
+
+/// Scales `m` by `factors` along the world axes about `pivot`: positions, normals (inverse transpose,
+/// renormalised) and tangents (xyz scaled and renormalised, w kept). Factors must be positive.
+inline void scale_about(Mesh& m, const Eigen::Vector3d& factors, const Eigen::Vector3d& pivot) {
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v)
+    for (int i = 0; i < 3; ++i) m.V(v, i) = float(pivot[i] + (double(m.V(v, i)) - pivot[i]) * factors[i]);
+  auto rescale = [](float* p, const Eigen::Vector3d& f) {
+    Eigen::Vector3d q(double(p[0]) * f[0], double(p[1]) * f[1], double(p[2]) * f[2]);
+    const double n = q.norm();
+    if (!(n > 0)) return;
+    q /= n;
+    for (int i = 0; i < 3; ++i) p[i] = float(q[i]);
+  };
+  const Eigen::Vector3d inverse = factors.cwiseInverse();
+  for (Eigen::Index v = 0; v < m.N.rows(); ++v) rescale(&m.N(v, 0), inverse);
+  for (Eigen::Index v = 0; v < m.T.rows(); ++v) rescale(&m.T(v, 0), factors);
+}
+
+/// Translates every vertex of `m` by `t`.
+inline void translate(Mesh& m, const Eigen::Vector3d& t) {
+  if (t.isZero()) return;
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v)
+    for (int i = 0; i < 3; ++i) m.V(v, i) = float(double(m.V(v, i)) + t[i]);
+}
+
+}  // namespace restitch
