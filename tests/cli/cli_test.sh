@@ -92,6 +92,40 @@ tris0=$("$bin" info "$work/pins0.glb" --json - | json_field triangles); trisin=$
 [ "$tris0" = "$trisin" ] && ok || bad "--steps 0 changed the triangle count"
 expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-size.glb" --size 30,0,0
 grep -q "nearest achievable with steps" "$work/out" && ok || bad "--size does not say which steps it chose"
+# Placement: the pivot stays put (default: the origin, here at the min end); --pivot per axis.
+expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-max.glb" --steps 3 --pivot max,origin,origin --json "$work/pins-max.json"
+grep -q "pivot max,origin,origin at (20.92, 0, 0): translated by (-7.62, 0, 0)" "$work/out" && ok || bad "resize --pivot max: summary line: $(grep pivot "$work/out")"
+node -e '
+  const j = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
+  const p = j.pivot;
+  if (p.modes.join() !== "max,origin,origin" || Math.abs(p.point[0] - 20.92) > 1e-4 || Math.abs(p.translation[0] + 3 * 2.54) > 1e-4) process.exit(1);
+  if (p.low_end_cells[0] !== 3 || j.exact.applied !== false) process.exit(1);' "$work/pins-max.json" && ok || bad "resize --pivot max: JSON pivot wrong"
+[ "$("$bin" info "$work/pins-max.glb" --json - | json_field bbox_max | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8"))[0].toFixed(4))')" = 20.9200 ] && ok || bad "resize --pivot max moved the max end"
+expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-c.glb" --steps 3 --pivot center --json "$work/pins-c.json"
+[ "$(json_field pivot < "$work/pins-c.json" | node -e 'const p=JSON.parse(require("fs").readFileSync(0,"utf8")); console.log(p.low_end_cells[0], p.translation[0].toFixed(3))')" = "1 -2.540" ] && ok || bad "resize --pivot center: +3 is not 1 at the min end, 2 at the max end"
+[ "$(json_field pivot < "$work/pins+3.json" | node -e 'const p=JSON.parse(require("fs").readFileSync(0,"utf8")); console.log(p.modes.join(), p.translation.join())')" = "origin,origin,origin 0,0,0" ] && ok || bad "resize: the default pivot is not the origin, or the origin at the min end moved"
+expect_error 2 "pivot" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --steps 1 --pivot middle
+expect_error 2 "pivot" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --steps 1 --pivot min,max
+# Sizes: a negative size and a change along an axis with no repeat are refused naming the axis; the
+# current size is no change; --exact reaches the size by a scale about the pivot, reported.
+expect_error 5 "along y" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --size 30,-1,0
+expect_error 5 "no repeat runs along y" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --size 30,20,0
+expect_error 5 "no repeat runs along z" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --size 0,0,5 --exact
+[ ! -e "$work/x.glb" ] && ok || bad "a refused --size left a file"
+expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-same.glb" --size 20.92,11.5,2.5
+grep -q "nearest achievable with steps 0" "$work/out" && ok || bad "--size equal to the current size is a change"
+expect 2 "$bin" resize "$work/pins.glb" -o "$work/x.glb" --steps 1 --exact
+expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-exact.glb" --size 30,0,0 --exact --json "$work/pins-exact.json"
+grep -q "exact: 31.08 x 11.5 x 2.5 scaled by 0.965251 x 1 x 1 about the pivot" "$work/out" && ok || bad "resize --exact: no summary line: $(cat "$work/out")"
+node -e '
+  const j = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
+  const e = j.exact;
+  if (!e.applied || Math.abs(j.size_out[0] - 30) > 30e-6 || Math.abs(e.scale[0] - 30 / e.size_nearest[0]) > 1e-12 || e.scale[1] !== 1) process.exit(1);' "$work/pins-exact.json" && ok || bad "resize --exact: JSON exact wrong"
+"$bin" info "$work/pins-exact.glb" --json - > "$work/pins-exact-info.json"
+node -e '
+  const j = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
+  if (Math.abs(j.bbox_max[0] - j.bbox_min[0] - 30) > 30e-6 || Math.abs(j.bbox_min[0]) > 1e-6) process.exit(1);' "$work/pins-exact-info.json" && ok || bad "resize --exact: the written model is not 30 long from the pivot"
+validate "$work/pins-exact.glb"
 expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-regular.glb" --steps 1 --labels regular
 validate "$work/pins-regular.glb"
 expect_error 5 "limit" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --steps 50 --max-problem 100
