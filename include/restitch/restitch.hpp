@@ -42,6 +42,7 @@
 #include "restitch/matcher/reduced.hpp"
 #include "restitch/mesh.hpp"
 #include "restitch/offsets/autocorrelation.hpp"
+#include "restitch/placement.hpp"
 #include "restitch/retarget.hpp"
 #include "restitch/runtime.hpp"
 #include "restitch/solver/alpha_expansion.hpp"

@@ -201,7 +201,7 @@ class Retargeter {
       rep.triangles_out = rep.triangles_in;
       rep.vertices_out = out.mesh.vertex_count();
       rep.size_out = size_in_;
-      rep.placement = place(analysis_->lattice, box_in_, rep.steps, options_.pivot);
+      rep.placement = place(analysis_->lattice, box_in_, Eigen::Array3i::Zero(), options_.pivot);  // not moved
       rep.size_nearest = size_in_;
       out.labels = {Eigen::Array3i::Zero()};
       out.cell_labels.assign(std::size_t(nodes), 0);
