@@ -6,7 +6,7 @@
 //
 //   version() -> "restitch X.Y.Z"
 //   samples() -> [{name, description, units, parameters: [{name, value, min, max, integer, help}]}]
-//   policies() -> {descriptors: [...], matchers: [...], detectors: [...], label_spaces: [...]}
+//   policies() -> {descriptors: [...], matchers: [...], detectors: [...], label_spaces: [...], pivots: [...]}
 //                                         (each list: the default first)
 //   new Session()
 //     .loadGltf(Uint8Array)              -> {ok, vertices, triangles, bbox_min, bbox_max, warnings[]} | error
@@ -19,7 +19,10 @@
 //                                           to the detected ones. Resize steps then follow the new principal
 //                                           offsets. A refused request leaves the analysis and the last
 //                                           result as they were.
-//     .retarget(s1, s2, s3, labelSpace)  -> {ok, report, grid, label_shifts, cell_labels, face_labels} | error
+//     .retarget(s1, s2, s3, labelSpace[, pivot]) -> {ok, report, grid, label_shifts, cell_labels, face_labels} | error
+//                                           pivot: what stays put, "origin" (default), "min", "center" or "max",
+//                                           or three of them for x,y,z ("min,origin,max"); restitch/placement.hpp.
+//                                           report.pivot says which point stayed and the translation.
 //     .mesh(which)                       -> {ok, positions, normals?, uvs?, colors?, indices, groups[]} | error
 //                                           (which: "input" | "result")
 //     .saveGlb(which)                    -> {ok, bytes: Uint8Array} | error
@@ -197,6 +200,12 @@ class Session {
   }
 
   val retarget(int s1, int s2, int s3, const std::string& label_space) {
+    return retarget_about(s1, s2, s3, label_space, "origin");
+  }
+
+  val retarget_about(int s1, int s2, int s3, const std::string& label_space, const std::string& pivot) {
+    Result<Pivots> pivots = parse_pivots(pivot);
+    if (!pivots) return status_object(pivots.status());
     if (!input_ || !analysis_)
       return status_object(error(StatusCode::invalid_argument, "analyse the model before resizing it"));
     if (std::max({std::abs(s1), std::abs(s2), std::abs(s3)}) > max_steps)
@@ -211,6 +220,7 @@ class Session {
       retargeter_ = std::move(next);
       retargeter_space_ = label_space;
     }
+    retargeter_->set_pivot(*pivots);
     Result<RetargetResult> r = retargeter_->retarget(*steps);
     if (!r) return status_object(r.status());
     result_ = std::make_unique<RetargetResult>(std::move(*r));
@@ -408,6 +418,7 @@ val policies() {
   o.set("matchers", string_array(matcher_names()));
   o.set("detectors", string_array(detector_names()));
   o.set("label_spaces", string_array(label_space_names()));
+  o.set("pivots", string_array({"origin", "min", "center", "max"}));
   return o;
 }
 
@@ -426,6 +437,7 @@ EMSCRIPTEN_BINDINGS(restitch_web) {
       .function("analyze", &Session::analyze_with)
       .function("promote", &Session::promote)
       .function("retarget", &Session::retarget)
+      .function("retarget", &Session::retarget_about)
       .function("mesh", &Session::mesh)
       .function("saveGlb", &Session::save_glb);
 }

@@ -46,6 +46,7 @@ const settings = {
   matcher: query.get('matcher'),
   detector: query.get('detector'),
   labelSpace: query.get('labels'),
+  pivot: query.get('pivot') || 'origin',  // what stays put when resizing (restitch resize --pivot)
   view: 'shaded',
   offsets: true,
   histogram: true,
@@ -116,7 +117,7 @@ function showOffsets() {
 
 function currentSteps() { return [settings.steps.v1, settings.steps.v2, settings.steps.v3]; }
 
-function resizeTo(steps) { return session.resize(steps, settings.labelSpace); }
+function resizeTo(steps) { return session.resize(steps, settings.labelSpace, settings.pivot); }
 
 function setSteps(steps) {
   if (!session.state.analysis) return Promise.reject(new Error('no analysed model yet'));
@@ -242,6 +243,7 @@ const handlers = {
   download,
   policy: () => session.state.model && session.reanalyze(),
   labelSpace: () => session.state.analysis && resizeTo(currentSteps()).catch(() => {}),
+  pivot: () => session.state.analysis && resizeTo(currentSteps()).catch(() => {}),
   view: () => { showModel(); view.render(); },
   offsets: (v) => { view.arrowGroup.visible = v; view.render(); },
   histogram: () => view.render(),
@@ -319,6 +321,7 @@ async function start() {
   settings.matcher = pick(settings.matcher, catalog.policies.matchers);
   settings.detector = pick(settings.detector, catalog.policies.detectors || ['histogram']);
   settings.labelSpace = pick(settings.labelSpace, catalog.policies.label_spaces);
+  settings.pivot = pick(settings.pivot, catalog.policies.pivots || ['origin']);
   panel.build({ samples: catalog.samples.map((s) => s.name), policies: catalog.policies }, handlers);
   if (!catalog.samples.some((s) => s.name === settings.sample)) settings.sample = catalog.samples[0].name;
   panel.refresh();

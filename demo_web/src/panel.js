@@ -8,9 +8,9 @@
 //   panel.refresh()                               shows `settings` again after it was changed in code
 //   panel.showFigures(state)                      the figures table of a Session's state (./session.js)
 //   panel.showProgress(stage, fraction) / panel.showError(message)   (null / '' hide them)
-// `settings` is the object the controls edit: sample, descriptor, matcher, detector, labelSpace, view ('shaded' |
+// `settings` is the object the controls edit: sample, descriptor, matcher, detector, labelSpace, pivot, view ('shaded' |
 // 'labels' | 'seams'), offsets, histogram (booleans), steps {v1, v2, v3}. handlers: sample(name), open(),
-// download(), policy() (descriptor or matcher changed), labelSpace(), view(), offsets(), histogram().
+// download(), policy() (descriptor or matcher changed), labelSpace(), pivot(), view(), offsets(), histogram().
 // The slider names give the size each step count makes along its principal offset, in model units.
 import GUI from 'lil-gui';
 import { candidateLabel, fmt, lengthFormat } from './peaks.js';
@@ -97,6 +97,7 @@ export class Panel {
     this.analysisFolder.add(s, 'matcher', policies.matchers).onChange(on.policy);
     if (policies.detectors) this.analysisFolder.add(s, 'detector', policies.detectors).onChange(on.policy);
     this.resizeFolder.add(s, 'labelSpace', policies.label_spaces).name('label space').onChange(on.labelSpace);
+    if (policies.pivots) this.resizeFolder.add(s, 'pivot', policies.pivots).name('pivot (stays put)').onChange(on.pivot);
     this.viewFolder.add(s, 'view', { shaded: 'shaded', 'cells by label': 'labels', seams: 'seams' }).onChange(on.view);
     this.viewFolder.add(s, 'offsets').name('principal offsets').onChange(on.offsets);
     this.viewFolder.add(s, 'histogram').name('offset histogram').onChange(on.histogram);

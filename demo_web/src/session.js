@@ -3,7 +3,7 @@
 //   const session = new Session(client, { hooks, policy: () => ({ descriptor, matcher, detector }) });
 //   await session.start();                     // the catalog: {samples, policies, version}, or null on failure
 //   await session.load({ sample: { name, params } });   // or { file: { name, bytes } }; analyses it too
-//   await session.resize([a, b, c], labelSpace);         // resolves once hooks.result has shown it
+//   await session.resize([a, b, c], labelSpace, pivot);  // resolves once hooks.result has shown it (pivot: 'origin' if not given)
 //   await session.promote([[x, y, z], ...]);            // these offsets principal first; [] = the detected ones
 //   session.reanalyze()        the policy changed      session.save() -> .glb bytes (the result, else the input)
 //   session.present() -> mesh  what the view shows     session.fail(message): the error state, from the app
@@ -44,7 +44,7 @@
 //   model {name, units, info, inputMesh, materials} (info: the worker's load answer: bbox_min/max, triangles,
 //   warnings, ...), analysis (`restitch analyze --json` fields), extras (raw match offsets for the histogram),
 //   analysisMs, promoted [[x, y, z]...] (the offsets made principal on request, [] for the detected ones),
-//   retarget {steps, labelSpace, result, mesh, ms, pageMs} (the result shown, null while the input
+//   retarget {steps, labelSpace, pivot, result, mesh, ms, pageMs} (the result shown, null while the input
 //   is shown), shown {vertices, triangles} (of the mesh shown).
 
 const NO_REPETITION = 'No repetition found: restitch found no repeated part in this model, so there is nothing to ' +
@@ -162,9 +162,9 @@ export class Session {
 
   // Asks for the model resized by `steps` along the principal offsets; see the header for the queue.
   // Resolves with {vertices, triangles, steps, ms} once the view shows it.
-  resize(steps, labelSpace) {
-    const key = `${steps.join(',')}|${labelSpace}`;
-    const job = { steps: steps.slice(), labelSpace, key, t0: this.#now(), waiters: [] };
+  resize(steps, labelSpace, pivot = 'origin') {
+    const key = `${steps.join(',')}|${labelSpace}|${pivot}`;
+    const job = { steps: steps.slice(), labelSpace, pivot, key, t0: this.#now(), waiters: [] };
     const promise = new Promise((resolve, reject) => job.waiters.push({ resolve, reject }));
     this.#next = replace(this.#next, job, 'resize');
     this.#pump();
@@ -302,9 +302,10 @@ export class Session {
     this.#inFlight = job;
     const generation = this.#generation;
     try {
-      const msg = await this.#client.request('retarget', { steps: job.steps, labelSpace: job.labelSpace });
+      const msg = await this.#client.request('retarget', { steps: job.steps, labelSpace: job.labelSpace,
+                                                           pivot: job.pivot });
       if (generation !== this.#generation) return;
-      const retarget = { steps: job.steps, labelSpace: job.labelSpace, result: msg.result, mesh: msg.mesh, ms: msg.ms,
+      const retarget = { steps: job.steps, labelSpace: job.labelSpace, pivot: job.pivot, result: msg.result, mesh: msg.mesh, ms: msg.ms,
                          pageMs: null };
       this.state.retarget = retarget;
       this.present();

@@ -10,7 +10,7 @@
 //   {type: 'promote', offsets: [[x, y, z], ...]}       {type: 'promoted', offsets, analysis, extras, ms}
 //     (model units, at most three: they become the first principal offsets, in order; [] goes back to the
 //     detected ones; later retargets step along the new principal offsets. Refused: analysis unchanged.)
-//   {type: 'retarget', steps: [a, b, c], labelSpace}   {type: 'retargeted', steps, result, mesh, ms}
+//   {type: 'retarget', steps: [a, b, c], labelSpace, pivot?}   {type: 'retargeted', steps, result, mesh, ms}
 //   {type: 'save', which: 'result' | 'input'}          {type: 'saved', bytes}
 //   any failure                                        {type: 'error', request, code, message}
 // `analysis` holds the fields of `restitch analyze --json`, `result.report` those
@@ -75,10 +75,10 @@ function handle(restitch, msg) {
     case 'retarget': {
       const t0 = performance.now();
       const [a, b, c] = msg.steps;
-      const r = session.retarget(a, b, c, msg.labelSpace);
+      const r = session.retarget(a, b, c, msg.labelSpace, msg.pivot || 'origin');
       if (!r.ok) return fail(msg, r);
       const mesh = session.mesh('result');
-      post({ type: 'retargeted', id: msg.id, steps: msg.steps, labelSpace: msg.labelSpace, result: r, mesh,
+      post({ type: 'retargeted', id: msg.id, steps: msg.steps, labelSpace: msg.labelSpace, pivot: msg.pivot, result: r, mesh,
              ms: performance.now() - t0 });
       return;
     }

@@ -183,6 +183,20 @@ try {
     return `regular: ${rep.nodes} nodes, ${rep.labels} labels`;
   });
 
+  await attempt('the pivot dropdown: max keeps the far end, the result moves by whole periods', async () => {
+    await page.evaluate(() => window.restitchDemo.setSteps([2, 0, 0]));
+    const pivot = page.locator('.lil-gui .lil-controller.lil-option').filter({ hasText: 'pivot' }).locator('select');
+    await pivot.selectOption({ label: 'max' });
+    await page.waitForFunction(() => window.restitchDemo.report && window.restitchDemo.report.pivot.modes[0] === 'max',
+                               null, { timeout: 60000 });
+    const p = await page.evaluate(() => window.restitchDemo.report.pivot);
+    await pivot.selectOption({ label: 'origin' });
+    await page.waitForFunction(() => window.restitchDemo.report.pivot.modes[0] === 'origin', null, { timeout: 60000 });
+    assert(p.low_end_cells.some((c) => c !== 0) && p.translation.some((x) => x !== 0),
+           `no translation with a max pivot: ${JSON.stringify(p)}`);
+    return `translation ${p.translation.map((x) => x.toFixed(3)).join(', ')}`;
+  });
+
   // 5. Download the result and validate it.
   await attempt('download .glb validates', async () => {
     await page.evaluate(() => window.restitchDemo.setSteps([2, 1, 0]));

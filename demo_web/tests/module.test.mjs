@@ -67,6 +67,7 @@ test('the module lists its samples and policies', () => {
   assert.deepEqual(p.matchers, ['brute_force', 'reduced']);
   assert.deepEqual(p.detectors, ['histogram', 'autocorrelation']);
   assert.deepEqual(p.label_spaces, ['lattice', 'regular']);
+  assert.deepEqual(p.pivots, ['origin', 'min', 'center', 'max']);
   assert.match(restitch.version(), /^restitch \d+\.\d+\.\d+$/);
 });
 
@@ -218,6 +219,29 @@ test('retarget grows and shrinks by whole repeats, and the .glb validates', asyn
   assert.match(unknown.message, /lattice, regular/);
   // A refused label space keeps the session usable.
   assert.equal(shelf.retarget(1, 0, 0, 'lattice').ok, true);
+});
+
+test('the pivot stays put: max keeps the far end, center splits, origin is the default, a bad one is refused', () => {
+  // The bookshelf's origin is its min corner: by default growth goes to +x, and nothing moves.
+  const plain = shelf.retarget(2, 0, 0, 'lattice');
+  assert.equal(plain.ok, true, plain.message);
+  assert.deepEqual(plain.report.pivot.modes, ['origin', 'origin', 'origin']);
+  assert.deepEqual(plain.report.pivot.translation, [0, 0, 0]);
+  const v1 = shelfAnalysis.analysis.principal_offsets[0];
+  const max = shelf.retarget(2, 0, 0, 'lattice', 'max');
+  assert.equal(max.ok, true, max.message);
+  assert.deepEqual(max.report.pivot.modes, ['max', 'max', 'max']);
+  assert.ok(near(max.report.pivot.translation[0], -2 * v1[0], 1e-6), JSON.stringify(max.report.pivot));
+  assert.deepEqual(max.report.pivot.low_end_cells, [2, 0, 0]);
+  // The label grid moves with the result.
+  assert.ok(near(max.grid.origin[0], plain.grid.origin[0] - 2 * v1[0], 1e-6));
+  const center = shelf.retarget(3, 0, 0, 'lattice', 'center,origin,origin');
+  assert.equal(center.ok, true, center.message);
+  assert.deepEqual(center.report.pivot.low_end_cells, [1, 0, 0], 'the odd column goes to the max side');
+  const bad = shelf.retarget(1, 0, 0, 'lattice', 'middle');
+  assert.equal(bad.ok, false);
+  assert.equal(bad.code, 'invalid_argument');
+  assert.match(bad.message, /origin, min, center, max/);
 });
 
 test('the regular baseline needs more nodes for the same request', () => {

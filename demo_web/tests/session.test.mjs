@@ -178,6 +178,20 @@ test('a repeated request for the queued steps runs once and settles both promise
   assert.equal(client.sent('retarget').length, 2);
 });
 
+test('the pivot goes to the worker with the steps; the same steps about another pivot are a new request', async () => {
+  const { session, client } = await readySession();
+  const first = session.resize([1, 0, 0], 'lattice');
+  await client.answer('retarget', retargeted([1, 0, 0], 10));
+  await resolved(first);
+  assert.equal(client.sent('retarget')[0].payload.pivot, 'origin', 'the default pivot is the origin');
+  assert.equal(session.state.retarget.pivot, 'origin');
+  const max = session.resize([1, 0, 0], 'lattice', 'max');
+  await client.answer('retarget', retargeted([1, 0, 0], 10));
+  await resolved(max);
+  assert.deepEqual(client.sent('retarget').map((r) => r.payload.pivot), ['origin', 'max']);
+  assert.equal(session.state.retarget.pivot, 'max');
+});
+
 test('a stale load answer is ignored after a newer load, whichever arrives first', async () => {
   for (const staleFirst of [true, false]) {
     const { session, client, named } = makeSession();
