@@ -97,6 +97,7 @@
 #include "restitch/descriptor/descriptor.hpp"
 #include "restitch/matcher/matcher.hpp"
 #include "restitch/offsets/histogram.hpp"
+#include "restitch/offsets/part.hpp"
 #include "restitch/offsets/refine.hpp"
 #include "restitch/progress.hpp"
 #include "restitch/status.hpp"
@@ -130,6 +131,10 @@ struct DominantOffset {
   /// The peak was `divisor` periods long and `offset` is its fundamental
   /// period (offsets/fundamental.hpp, applied by the analysis); 1: as found.
   int divisor = 1;
+  /// The tests on the part that repeats (offsets/part.hpp), run when the
+  /// whole-surface tests fail and the candidate has votes; `part.passed`
+  /// made it significant (then `offset` is the part's refined offset).
+  PartTest part;
 };
 
 /// A detector's answer.
@@ -179,6 +184,10 @@ struct OffsetCandidate {
   Eigen::Vector3d start = Eigen::Vector3d::Zero();  ///< ICP start (normalized): a bin centre, an S_T peak...
   std::size_t votes = 0;                            ///< evidence mass (DominantOffset::votes)
   std::size_t bin_votes = 0;                        ///< evidence at the start alone (DominantOffset::bin_votes)
+  /// The positions of the features that voted for it, both ends of each
+  /// vote (the histogram detector): they define the part that repeats
+  /// (offsets/part.hpp). Empty: no part test.
+  std::vector<Eigen::Vector3d> seeds;
 };
 
 /// Thresholds of the significance tests (see the header comment), shared by the shipped detectors.
@@ -192,12 +201,32 @@ struct SignificanceOptions {
   /// Also require the contrast at 2t along each world axis (the autocorrelation detector; see
   /// offsets/autocorrelation.hpp): a period combined with a slide is no strict maximum at 2t.
   bool axis_contrast = false;
+  /// The same tests on the part that repeats, for candidates with seeds (offsets/part.hpp).
+  PartOptions part{};
 
   bool valid() const {
     return min_overlap >= 0 && min_overlap <= 1 && std::isfinite(min_contrast) && min_repeat_ratio >= 0 &&
            std::isfinite(min_repeat_ratio) && max_double_drift >= 0;
   }
 };
+
+namespace detail {
+/// The part test (offsets/part.hpp) for a candidate that failed on the whole
+/// surface: when it passes and its part-refined offset is not one already
+/// kept, `d` becomes significant at that offset.
+inline void significant_on_part(const SelfAligner& aligner, const OffsetEvidence& ev, const OffsetCandidate& c,
+                                const SignificanceOptions& tests, const std::vector<DominantOffset>& kept,
+                                DominantOffset& d) {
+  if (c.seeds.empty() || d.votes < tests.min_votes) return;
+  d.part = test_on_part(aligner, c.start, c.seeds, ev.tau, tests.min_overlap, tests.min_contrast,
+                        tests.min_repeat_ratio, tests.max_double_drift, tests.part);
+  if (!d.part.passed) return;
+  for (const DominantOffset& o : kept)
+    if ((o.offset - d.part.offset).norm() <= aligner.options().overlap_radius()) return;
+  d.offset = d.part.offset;
+  d.significant = true;
+}
+}  // namespace detail
 
 /// Step 2 and 3 of the header comment, for any detector: refines each
 /// candidate, in the given order, by translation-only ICP of the dense cloud
@@ -257,10 +286,31 @@ inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<Offset
       ok = d.axis_contrast_double >= tests.min_contrast;
     }
     d.significant = ok;
+    if (!ok) detail::significant_on_part(aligner, ev, todo[k], tests, out, d);  // offsets/part.hpp
     out.push_back(d);
   }
   return {};
 }
+
+namespace detail {
+/// For each candidate (a peak at a bin centre), both ends of every vote in
+/// its bin or one of the 26 neighbours (the votes its mass counts), in vote
+/// order: the seeds of its part (offsets/part.hpp).
+inline void collect_part_seeds(const PointSet& features, const std::vector<Eigen::Vector3d>& offsets,
+                               const std::vector<std::pair<std::int32_t, std::int32_t>>& voters, double bin_size,
+                               std::vector<OffsetCandidate>& todo) {
+  std::vector<Eigen::Vector3d> peak_bins;
+  for (const OffsetCandidate& c : todo) peak_bins.push_back((c.start / bin_size).array().floor().matrix());
+  for (std::size_t v = 0; v < offsets.size(); ++v) {
+    const Eigen::Vector3d b = (offsets[v] / bin_size).array().floor().matrix();
+    for (std::size_t k = 0; k < todo.size(); ++k) {
+      if ((b - peak_bins[k]).cwiseAbs().maxCoeff() > 1.5) continue;
+      todo[k].seeds.push_back(features.points.row(voters[v].first).cast<double>().transpose());
+      todo[k].seeds.push_back(features.points.row(voters[v].second).cast<double>().transpose());
+    }
+  }
+}
+}  // namespace detail
 
 /// The paper's detector: histogram, non-maximum suppression, ICP refinement, significance (see header).
 struct HistogramOffsetDetector {
@@ -275,10 +325,13 @@ struct HistogramOffsetDetector {
   double min_repeat_ratio = 0.25;  ///< overlap(2t) / overlap(t) at least this
   double max_double_drift = 0.25;  ///< |refine(2t) - 2t| at most this many dense spacings
   IcpOptions icp{};                ///< `icp.spacing` is replaced by the evidence's dense spacing
+  PartOptions part{};              ///< significance on the part that repeats (offsets/part.hpp)
 
   /// The significance thresholds above, for refine_and_test.
   SignificanceOptions significance() const {
-    return {min_votes, min_overlap, min_contrast, min_repeat_ratio, max_double_drift, icp};
+    SignificanceOptions s{min_votes, min_overlap, min_contrast, min_repeat_ratio, max_double_drift, icp};
+    s.part = part;
+    return s;
   }
 
   Status detect(const OffsetEvidence& ev, OffsetDetection& out, const Progress& progress) const {
@@ -296,6 +349,7 @@ struct HistogramOffsetDetector {
     auto t0 = std::chrono::steady_clock::now();
     if (!progress.report("histogram", 0)) return error(StatusCode::cancelled, "cancelled during the offset histogram");
     std::vector<Eigen::Vector3d> offsets;
+    std::vector<std::pair<std::int32_t, std::int32_t>> voters;  // (x, y) of each offset, for the part test
     offsets.reserve(ev.matches.size());
     for (std::size_t i = 0; i < ev.matches.size(); ++i) {
       const std::int32_t j = ev.matches[i].target;
@@ -305,6 +359,7 @@ struct HistogramOffsetDetector {
                      "match " + std::to_string(i) + " names a feature that does not exist");
       offsets.push_back(
           (ev.features.points.row(j) - ev.features.points.row(Eigen::Index(i))).cast<double>().transpose());
+      voters.emplace_back(std::int32_t(i), j);
     }
     OffsetHistogram hist;
     RESTITCH_TRY(build_offset_histogram(offsets, bin_size, hist));
@@ -318,7 +373,8 @@ struct HistogramOffsetDetector {
     t0 = std::chrono::steady_clock::now();
     std::vector<OffsetCandidate> todo;
     for (const HistogramPeak& p : peaks)
-      if (p.mass >= min_votes && todo.size() < max_peaks) todo.push_back({p.center, p.mass, p.votes});
+      if (p.mass >= min_votes && todo.size() < max_peaks) todo.push_back({p.center, p.mass, p.votes, {}});
+    if (part.enabled) detail::collect_part_seeds(ev.features, offsets, voters, bin_size, todo);
     RESTITCH_TRY(refine_and_test(ev, todo, significance(), progress, out.dominant));
     out.timings_ms["refinement"] = detail::elapsed_ms(t0);
     if (!progress.report("refinement", 1)) return error(StatusCode::cancelled, "cancelled during offset refinement");

@@ -1,0 +1,159 @@
+// restitch/offsets/part.hpp - significance judged on the part of the surface that repeats.
+//
+// docs/method.md 1.5.1. The significance tests of offsets/detector.hpp
+// measure the overlap over the whole dense surface. A part that repeats but
+// covers a minority of it (windows in a flat door, muntins in a window
+// frame, stringers under a pallet deck, ornaments between bars) is then
+// judged together with everything that does not repeat with it: its overlap
+// stays under 1/3, or the kink of its overlap drowns in the slide of the
+// large faces around it. This header runs the same tests on the part that
+// repeats instead.
+//
+// The part. A histogram peak knows which features voted for it: each vote
+// is a feature x and its best match y = x + v with v in the peak's bin or
+// one of its 26 neighbours (the bins its mass counts). The part is every
+// dense sample within `radius` of such an x or y: the copies the votes come
+// from and land on. radius = the feature spacing (0.06), because the
+// feature sample is near-maximal at that spacing (offsets: sampling/), so
+// the balls of that radius around the features of a module cover the
+// module, and a larger radius would add surroundings that do not repeat.
+// The part's anchors (mesh vertices) are chosen the same way.
+//
+// The tests. Exactly those of offsets/detector.hpp, with the overlap taken
+// over the part's samples (the targets stay the whole surface): ICP of the
+// part onto the surface from the peak, overlap >= 1/3, a kink along t
+// (contrast >= 0.01), and the pattern at 2t (ICP restarted at 2t stays
+// within 0.25 spacings, overlap(2t) >= overlap(t) / 4, contrast at 2t >=
+// 0.01). Why a coincidence still fails them:
+//  * Two look-alike parts (two rails, two legs): the part is both, at t one
+//    maps onto the other (overlap about 1/2), at 2t neither lands on
+//    anything of the part (overlap(2t) about 0): the pattern test fails, as
+//    on the whole surface. Restricting to the part does not help a pair.
+//  * A slide (a plate or a bar along itself): its votes spread over many
+//    bins, and on the part the overlap still falls linearly with the shift,
+//    so the kink is 0 however small the part.
+//  * Chance agreement of a few features: the part is small, and a share
+//    over few samples is coarse. So the part must show as much absolute
+//    evidence as the whole-surface tests demand: the kink must be carried
+//    by at least min_overlap_samples... see `min_kink_samples`: contrast
+//    times the number of part samples >= 0.01 x 2048 ~ 20 samples (what the
+//    whole-surface contrast threshold asks of its 2048 sources), at t and at
+//    2t. A part smaller than 20 / (1/3) = 62 samples cannot pass; that is
+//    about 4 feature balls (a ball of radius 0.06 holds about 15 dense
+//    samples at 0.5 samples per spacing squared), i.e. the smallest module
+//    the mass test (5 votes) describes.
+//
+// The part test runs only for a candidate that fails the whole-surface
+// tests and that carries votes (the autocorrelation detector has none), so
+// it never changes what was significant before, and costs nothing on a
+// model whose repeats pass on the whole surface.
+//
+// Units: normalized (those of the aligner). Deterministic: the part's
+// indices are sorted and thinned at an even stride like the aligner's own
+// sources. Cost: per candidate, #seeds radius searches plus the tests'
+// 2 ICP runs and 7 overlaps on at most max_sources points.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "restitch/offsets/refine.hpp"
+
+namespace restitch {
+
+/// Parameters of the part test (see the header comment for each reason).
+struct PartOptions {
+  bool enabled = true;
+  double radius = 0.06;              ///< part = dense samples within this of a voting feature (the feature spacing)
+  double min_kink_samples = 0.01 * 2048;  ///< contrast x part samples at least this, at t and 2t
+};
+
+/// What the part test measured (all 0 when it did not run).
+struct PartTest {
+  bool ran = false, passed = false;
+  std::size_t samples = 0;  ///< dense samples in the part (before thinning to max_sources)
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();  ///< refined on the part
+  double overlap = 0, contrast = 0, overlap_double = 0, contrast_double = 0, double_drift = 0;
+  double axis_contrast = 0, axis_contrast_double = 0;  ///< least contrast along a world axis at t and 2t
+};
+
+/// The dense samples and anchors within `radius` of any seed, sorted, thinned
+/// at an even stride to the aligner's max_sources.
+inline SelfAligner::Sources repeated_part(const SelfAligner& aligner, const std::vector<Eigen::Vector3d>& seeds,
+                                          double radius, std::size_t* samples = nullptr) {
+  SelfAligner::Sources part;
+  for (const Eigen::Vector3d& s : seeds) {
+    aligner.cloud_within(s, radius, part.cloud);
+    aligner.anchors_within(s, radius, part.anchors);
+  }
+  const std::size_t cap = std::max<std::size_t>(aligner.options().max_sources, 1);
+  for (std::vector<std::uint32_t>* v : {&part.cloud, &part.anchors}) {
+    std::sort(v->begin(), v->end());
+    v->erase(std::unique(v->begin(), v->end()), v->end());
+    if (v == &part.cloud && samples) *samples = v->size();
+    if (v->size() > cap) {
+      std::vector<std::uint32_t> thin;
+      thin.reserve(cap);
+      for (std::size_t k = 0; k < cap; ++k) thin.push_back((*v)[k * v->size() / cap]);
+      v->swap(thin);
+    }
+  }
+  return part;
+}
+
+/// The significance tests of offsets/detector.hpp on the part (see the
+/// header comment). `min_overlap` etc. are the detector's thresholds; `tau`
+/// the matcher's minimum offset length.
+inline PartTest test_on_part(const SelfAligner& aligner, const Eigen::Vector3d& start,
+                             const std::vector<Eigen::Vector3d>& seeds, double tau, double min_overlap,
+                             double min_contrast, double min_repeat_ratio, double max_double_drift,
+                             const PartOptions& options) {
+  PartTest p;
+  if (!options.enabled || seeds.empty()) return p;
+  p.ran = true;
+  const SelfAligner::Sources part = repeated_part(aligner, seeds, options.radius, &p.samples);
+  const double n = double(part.cloud.size());
+  if (n == 0) return p;
+  const double radius = aligner.options().overlap_radius(), spacing = aligner.options().spacing;
+  const auto kink = [&](const Eigen::Vector3d& t, double at_t) {
+    const Eigen::Vector3d step = t.normalized() * (2 * radius);
+    return at_t - 0.5 * (aligner.overlap(t - step, part.cloud) + aligner.overlap(t + step, part.cloud));
+  };
+  const RefinedOffset r = aligner.refine(start, part);
+  p.offset = r.offset;
+  p.overlap = r.overlap;
+  bool ok = r.offset.norm() > tau && p.overlap >= min_overlap;
+  if (ok) p.contrast = kink(r.offset, p.overlap), ok = p.contrast >= min_contrast && p.contrast * n >= options.min_kink_samples;
+  if (ok) {
+    const RefinedOffset r2 = aligner.refine(2 * r.offset, part);
+    p.double_drift = (r2.offset - 2 * r.offset).norm();
+    p.overlap_double = aligner.overlap(2 * r.offset, part.cloud);
+    ok = p.double_drift <= max_double_drift * spacing && p.overlap_double >= min_repeat_ratio * p.overlap;
+  }
+  if (ok) {
+    p.contrast_double = kink(2 * r.offset, p.overlap_double);
+    ok = p.contrast_double >= min_contrast && p.contrast_double * n >= options.min_kink_samples;
+  }
+  const auto axis_kink = [&](const Eigen::Vector3d& t, double at_t) {
+    double least = at_t;
+    for (int axis = 0; axis < 3; ++axis) {
+      const Eigen::Vector3d step = Eigen::Vector3d::Unit(axis) * (2 * radius);
+      least = std::min(least, at_t - 0.5 * (aligner.overlap(t - step, part.cloud) + aligner.overlap(t + step, part.cloud)));
+    }
+    return least;
+  };
+  if (ok) {
+    p.axis_contrast = axis_kink(r.offset, p.overlap);
+    p.axis_contrast_double = axis_kink(2 * r.offset, p.overlap_double);
+    ok = std::min(p.axis_contrast, p.axis_contrast_double) >= min_contrast &&
+         std::min(p.axis_contrast, p.axis_contrast_double) * n >= options.min_kink_samples;
+  }
+  p.passed = ok;
+  return p;
+}
+
+}  // namespace restitch
