@@ -75,6 +75,12 @@
 //       rails of a fence, two legs): continuing a pair is not resizing a
 //       pattern. (So a structure must repeat at least three times to be
 //       resized along; 1/4 leaves half of the three-copy ratio as margin.)
+//     A candidate that fails these on the whole surface but carries votes
+//     (`OffsetCandidate::seeds`, filled by the histogram detector) is tested
+//     again on the part that repeats, the dense samples near the features
+//     that voted for it (offsets/part.hpp, `DominantOffset::part`): a
+//     minority repeat (windows in a flat door) is drowned on the whole
+//     surface. Passing there makes it significant, at the part's offset.
 //     Insignificant dominant offsets stay in the list (flagged) so a report
 //     can show why a peak was rejected.
 //
