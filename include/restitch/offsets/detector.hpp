@@ -217,20 +217,32 @@ struct SignificanceOptions {
 };
 
 namespace detail {
-/// The part test (offsets/part.hpp) for a candidate that failed on the whole
-/// surface: when it passes and its part-refined offset is not one already
-/// kept, `d` becomes significant at that offset.
-inline void significant_on_part(const SelfAligner& aligner, const OffsetEvidence& ev, const OffsetCandidate& c,
-                                const SignificanceOptions& tests, const std::vector<DominantOffset>& kept,
-                                DominantOffset& d) {
-  if (c.seeds.empty() || d.votes < tests.min_votes) return;
-  d.part = test_on_part(aligner, c.start, c.seeds, ev.tau, tests.min_overlap, tests.min_contrast,
-                        tests.min_repeat_ratio, tests.max_double_drift, tests.part);
-  if (!d.part.passed) return;
-  for (const DominantOffset& o : kept)
-    if ((o.offset - d.part.offset).norm() <= aligner.options().overlap_radius()) return;
-  d.offset = d.part.offset;
-  d.significant = true;
+/// The part test (offsets/part.hpp), after every candidate had its
+/// whole-surface tests: for each `failed` (index into `out`, index into
+/// `todo`), in rank order, when it passes on its part and its part-refined
+/// offset is not, up to sign, one already significant, it becomes
+/// significant at that offset. Run last so that an offset the whole surface
+/// accepts (at either sign) keeps its whole-surface value.
+inline void significant_on_part(const SelfAligner& aligner, const OffsetEvidence& ev,
+                                const std::vector<OffsetCandidate>& todo, const SignificanceOptions& tests,
+                                const std::vector<std::pair<std::size_t, std::size_t>>& failed,
+                                std::vector<DominantOffset>& out) {
+  const double radius = aligner.options().overlap_radius();
+  for (const auto& f : failed) {
+    DominantOffset& d = out[f.first];
+    const OffsetCandidate& c = todo[f.second];
+    if (c.seeds.empty() || d.votes < tests.min_votes) continue;
+    d.part = test_on_part(aligner, c.start, c.seeds, ev.tau, tests.min_overlap, tests.min_contrast,
+                          tests.min_repeat_ratio, tests.max_double_drift, tests.part);
+    if (!d.part.passed) continue;
+    bool known = false;
+    for (const DominantOffset& o : out)
+      known = known || (o.significant && ((o.offset - d.part.offset).norm() <= radius ||
+                                           (o.offset + d.part.offset).norm() <= radius));
+    if (known) continue;
+    d.offset = d.part.offset;
+    d.significant = true;
+  }
 }
 }  // namespace detail
 
@@ -252,6 +264,7 @@ inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<Offset
   options.spacing = ev.dense_spacing;
   const SelfAligner aligner(ev.dense, options, ev.anchors);
   const double radius = options.overlap_radius();
+  std::vector<std::pair<std::size_t, std::size_t>> failed;  // (index in out, index in todo)
   for (std::size_t k = 0; k < todo.size(); ++k) {
     if (!progress.report("refinement", double(k) / double(todo.size())))
       return error(StatusCode::cancelled, "cancelled during offset refinement");
@@ -292,9 +305,10 @@ inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<Offset
       ok = d.axis_contrast_double >= tests.min_contrast;
     }
     d.significant = ok;
-    if (!ok) detail::significant_on_part(aligner, ev, todo[k], tests, out, d);  // offsets/part.hpp
+    if (!ok) failed.emplace_back(out.size(), k);  // for the part test below
     out.push_back(d);
   }
+  detail::significant_on_part(aligner, ev, todo, tests, failed, out);  // offsets/part.hpp
   return {};
 }
 
