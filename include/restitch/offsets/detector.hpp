@@ -232,7 +232,7 @@ inline void significant_on_part(const SelfAligner& aligner, const OffsetEvidence
     DominantOffset& d = out[f.first];
     const OffsetCandidate& c = todo[f.second];
     if (c.seeds.empty() || d.votes < tests.min_votes) continue;
-    d.part = test_on_part(aligner, c.start, c.seeds, ev.tau, tests.min_overlap, tests.min_contrast,
+    d.part = test_on_part(aligner, c.start, d.offset, c.seeds, ev.tau, tests.min_overlap, tests.min_contrast,
                           tests.min_repeat_ratio, tests.max_double_drift, tests.part);
     if (!d.part.passed) continue;
     bool known = false;
@@ -314,20 +314,24 @@ inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<Offset
 
 namespace detail {
 /// For each candidate (a peak at a bin centre), both ends of every vote in
-/// its bin or one of the 26 neighbours (the votes its mass counts), in vote
-/// order: the seeds of its part (offsets/part.hpp).
+/// its bin or one of the 26 neighbours (the votes its mass counts), each
+/// feature once, in index order: the seeds of its part (offsets/part.hpp).
 inline void collect_part_seeds(const PointSet& features, const std::vector<Eigen::Vector3d>& offsets,
                                const std::vector<std::pair<std::int32_t, std::int32_t>>& voters, double bin_size,
                                std::vector<OffsetCandidate>& todo) {
   std::vector<Eigen::Vector3d> peak_bins;
   for (const OffsetCandidate& c : todo) peak_bins.push_back((c.start / bin_size).array().floor().matrix());
+  std::vector<std::vector<std::int32_t>> ends(todo.size());  // feature indices, each once (cost only)
   for (std::size_t v = 0; v < offsets.size(); ++v) {
     const Eigen::Vector3d b = (offsets[v] / bin_size).array().floor().matrix();
-    for (std::size_t k = 0; k < todo.size(); ++k) {
-      if ((b - peak_bins[k]).cwiseAbs().maxCoeff() > 1.5) continue;
-      todo[k].seeds.push_back(features.points.row(voters[v].first).cast<double>().transpose());
-      todo[k].seeds.push_back(features.points.row(voters[v].second).cast<double>().transpose());
-    }
+    for (std::size_t k = 0; k < todo.size(); ++k)
+      if ((b - peak_bins[k]).cwiseAbs().maxCoeff() <= 1.5)
+        ends[k].push_back(voters[v].first), ends[k].push_back(voters[v].second);
+  }
+  for (std::size_t k = 0; k < todo.size(); ++k) {
+    std::sort(ends[k].begin(), ends[k].end());
+    ends[k].erase(std::unique(ends[k].begin(), ends[k].end()), ends[k].end());
+    for (std::int32_t f : ends[k]) todo[k].seeds.push_back(features.points.row(f).cast<double>().transpose());
   }
 }
 }  // namespace detail

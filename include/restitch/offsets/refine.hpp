@@ -237,7 +237,7 @@ class SelfAligner {
   static void within(const Cloud& c, const Eigen::Vector3d& q, double radius, std::vector<std::uint32_t>& out) {
     const float qf[3] = {float(q.x()), float(q.y()), float(q.z())};
     std::vector<std::pair<std::uint32_t, float>> found;
-    c.tree->radiusSearch(qf, float(radius * radius), found, nanoflann::SearchParams());
+    c.tree->radiusSearch(qf, float(radius * radius), found, nanoflann::SearchParams(32, 0, false));  // unsorted
     for (const auto& f : found) out.push_back(f.first);
   }
 
