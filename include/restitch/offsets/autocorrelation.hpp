@@ -211,7 +211,7 @@ struct AutocorrelationOffsetDetector {
     const double dense = double(ev.dense.size());
     for (std::size_t k = 0; k < peaks.size() && k < max_peaks; ++k) {
       const auto votes = std::size_t(std::llround(peaks[k].value * dense));
-      todo.push_back({peaks[k].offset, votes, votes});
+      todo.push_back({peaks[k].offset, votes, votes, {}});
     }
     RESTITCH_TRY(refine_and_test(ev, todo, significance(), progress, out.dominant));
     out.timings_ms["refinement"] = detail::elapsed_ms(t0);

@@ -75,6 +75,12 @@
 //       rails of a fence, two legs): continuing a pair is not resizing a
 //       pattern. (So a structure must repeat at least three times to be
 //       resized along; 1/4 leaves half of the three-copy ratio as margin.)
+//     A candidate that fails these on the whole surface but carries votes
+//     (`OffsetCandidate::seeds`, filled by the histogram detector) is tested
+//     again on the part that repeats, the dense samples near the features
+//     that voted for it (offsets/part.hpp, `DominantOffset::part`): a
+//     minority repeat (windows in a flat door) is drowned on the whole
+//     surface. Passing there makes it significant, at the part's offset.
 //     Insignificant dominant offsets stay in the list (flagged) so a report
 //     can show why a peak was rejected.
 //
@@ -97,7 +103,9 @@
 #include "restitch/descriptor/descriptor.hpp"
 #include "restitch/matcher/matcher.hpp"
 #include "restitch/offsets/histogram.hpp"
+#include "restitch/offsets/part.hpp"
 #include "restitch/offsets/refine.hpp"
+#include "restitch/offsets/test_record.hpp"
 #include "restitch/progress.hpp"
 #include "restitch/status.hpp"
 
@@ -112,23 +120,6 @@ struct OffsetEvidence {
   double tau;                         ///< the matcher's minimum offset length
   const PointSet* anchors = nullptr;  ///< mesh vertices (normalized, with normals) as exact ICP anchors; may be null
 };
-
-/// One significance test as run on a dominant offset, for reports (the JSON's
-/// `tests`, `restitch analyze --verbose`): passed when value >= threshold, or
-/// value <= threshold for the tests marked `at_most` (the drift).
-struct OffsetTest {
-  std::string name;  ///< votes, overlap, contrast, double_drift, repeat, contrast_double, axis_contrast_double
-  double value = 0;
-  double threshold = 0;
-  bool at_most = false;
-  bool passed = false;
-};
-
-/// The tests that tell a pattern from a pair (the header comment's last group): an offset that passes
-/// votes, overlap and contrast and fails only one of these is a pair, reported as a candidate.
-inline bool is_pattern_test(const std::string& name) {
-  return name == "double_drift" || name == "repeat" || name == "contrast_double" || name == "axis_contrast_double";
-}
 
 /// A dominant offset: a peak (of the histogram, or of S_T) after refinement.
 struct DominantOffset {
@@ -147,19 +138,25 @@ struct DominantOffset {
   /// The peak was `divisor` periods long and `offset` is its fundamental
   /// period (offsets/fundamental.hpp, applied by the analysis); 1: as found.
   int divisor = 1;
-  /// The significance tests in the order they ran; the run stops at the first failure, so a
-  /// rejected offset's last entry is the test that rejected it.
+  /// The tests on the part that repeats (offsets/part.hpp), run when the
+  /// whole-surface tests fail and the candidate has votes; `part.passed`
+  /// made it significant (then `offset` is the part's refined offset).
+  PartTest part;
+  /// The significance tests in the order they ran: the whole-surface tests (the run stops at the
+  /// first failure), then, when the part test ran, its tests named "part_..." (offsets/part.hpp).
   std::vector<OffsetTest> tests;
   /// Made principal on request (promote_offsets, `--offsets`), whatever its tests say.
   bool promoted = false;
 
-  /// The test that rejected this offset, or null when every test that ran passed.
+  /// The test that rejected this offset (the first that failed), or null when it is significant.
   const OffsetTest* failed_test() const {
+    if (significant) return nullptr;
     for (const OffsetTest& t : tests)
       if (!t.passed) return &t;
     return nullptr;
   }
-  /// Passed votes, overlap and contrast, and failed a pattern test: two copies, not a pattern.
+  /// Not significant, and on the whole surface it passed votes, overlap and contrast and failed a
+  /// pattern test: two copies, not a pattern.
   bool is_pair() const {
     const OffsetTest* f = failed_test();
     return f && is_pattern_test(f->name);
@@ -213,6 +210,10 @@ struct OffsetCandidate {
   Eigen::Vector3d start = Eigen::Vector3d::Zero();  ///< ICP start (normalized): a bin centre, an S_T peak...
   std::size_t votes = 0;                            ///< evidence mass (DominantOffset::votes)
   std::size_t bin_votes = 0;                        ///< evidence at the start alone (DominantOffset::bin_votes)
+  /// The positions of the features that voted for it, both ends of each
+  /// vote (the histogram detector): they define the part that repeats
+  /// (offsets/part.hpp). Empty: no part test.
+  std::vector<Eigen::Vector3d> seeds;
 };
 
 /// Thresholds of the significance tests (see the header comment), shared by the shipped detectors.
@@ -226,12 +227,45 @@ struct SignificanceOptions {
   /// Also require the contrast at 2t along each world axis (the autocorrelation detector; see
   /// offsets/autocorrelation.hpp): a period combined with a slide is no strict maximum at 2t.
   bool axis_contrast = false;
+  /// The same tests on the part that repeats, for candidates with seeds (offsets/part.hpp).
+  PartOptions part{};
 
   bool valid() const {
     return min_overlap >= 0 && min_overlap <= 1 && std::isfinite(min_contrast) && min_repeat_ratio >= 0 &&
            std::isfinite(min_repeat_ratio) && max_double_drift >= 0;
   }
 };
+
+namespace detail {
+/// The part test (offsets/part.hpp), after every candidate had its
+/// whole-surface tests: for each `failed` (index into `out`, index into
+/// `todo`), in rank order, when it passes on its part and its part-refined
+/// offset is not, up to sign, one already significant, it becomes
+/// significant at that offset. Run last so that an offset the whole surface
+/// accepts (at either sign) keeps its whole-surface value.
+inline void significant_on_part(const SelfAligner& aligner, const OffsetEvidence& ev,
+                                const std::vector<OffsetCandidate>& todo, const SignificanceOptions& tests,
+                                const std::vector<std::pair<std::size_t, std::size_t>>& failed,
+                                std::vector<DominantOffset>& out) {
+  const double radius = aligner.options().overlap_radius();
+  for (const auto& f : failed) {
+    DominantOffset& d = out[f.first];
+    const OffsetCandidate& c = todo[f.second];
+    if (c.seeds.empty() || d.votes < tests.min_votes) continue;
+    d.part = test_on_part(aligner, c.start, d.offset, c.seeds, ev.tau, tests.min_overlap, tests.min_contrast,
+                          tests.min_repeat_ratio, tests.max_double_drift, tests.part);
+    d.tests.insert(d.tests.end(), d.part.tests.begin(), d.part.tests.end());
+    if (!d.part.passed) continue;
+    bool known = false;
+    for (const DominantOffset& o : out)
+      known = known || (o.significant && ((o.offset - d.part.offset).norm() <= radius ||
+                                           (o.offset + d.part.offset).norm() <= radius));
+    if (known) continue;
+    d.offset = d.part.offset;
+    d.significant = true;
+  }
+}
+}  // namespace detail
 
 /// Step 2 and 3 of the header comment, for any detector: refines each
 /// candidate, in the given order, by translation-only ICP of the dense cloud
@@ -251,6 +285,7 @@ inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<Offset
   options.spacing = ev.dense_spacing;
   const SelfAligner aligner(ev.dense, options, ev.anchors);
   const double radius = options.overlap_radius();
+  std::vector<std::pair<std::size_t, std::size_t>> failed;  // (index in out, index in todo)
   for (std::size_t k = 0; k < todo.size(); ++k) {
     if (!progress.report("refinement", double(k) / double(todo.size())))
       return error(StatusCode::cancelled, "cancelled during offset refinement");
@@ -267,9 +302,7 @@ inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<Offset
     d.iterations = r.iterations;
     // Significance, cheapest tests first; the run stops at the first failure (later fields stay 0).
     const auto test = [&d](const char* name, double value, double threshold, bool at_most = false) {
-      const bool passed = at_most ? value <= threshold : value >= threshold;
-      d.tests.push_back({name, value, threshold, at_most, passed});
-      return passed;
+      return record_test(d.tests, name, value, threshold, at_most);
     };
     const auto kink = [&](const Eigen::Vector3d& t, double at_t) {
       const Eigen::Vector3d step = t.normalized() * (2 * radius);
@@ -299,10 +332,36 @@ inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<Offset
       ok = test("axis_contrast_double", d.axis_contrast_double, tests.min_contrast);
     }
     d.significant = ok;
+    if (!ok) failed.emplace_back(out.size(), k);  // for the part test below
     out.push_back(d);
   }
+  detail::significant_on_part(aligner, ev, todo, tests, failed, out);  // offsets/part.hpp
   return {};
 }
+
+namespace detail {
+/// For each candidate (a peak at a bin centre), both ends of every vote in
+/// its bin or one of the 26 neighbours (the votes its mass counts), each
+/// feature once, in index order: the seeds of its part (offsets/part.hpp).
+inline void collect_part_seeds(const PointSet& features, const std::vector<Eigen::Vector3d>& offsets,
+                               const std::vector<std::pair<std::int32_t, std::int32_t>>& voters, double bin_size,
+                               std::vector<OffsetCandidate>& todo) {
+  std::vector<Eigen::Vector3d> peak_bins;
+  for (const OffsetCandidate& c : todo) peak_bins.push_back((c.start / bin_size).array().floor().matrix());
+  std::vector<std::vector<std::int32_t>> ends(todo.size());  // feature indices, each once (cost only)
+  for (std::size_t v = 0; v < offsets.size(); ++v) {
+    const Eigen::Vector3d b = (offsets[v] / bin_size).array().floor().matrix();
+    for (std::size_t k = 0; k < todo.size(); ++k)
+      if ((b - peak_bins[k]).cwiseAbs().maxCoeff() <= 1.5)
+        ends[k].push_back(voters[v].first), ends[k].push_back(voters[v].second);
+  }
+  for (std::size_t k = 0; k < todo.size(); ++k) {
+    std::sort(ends[k].begin(), ends[k].end());
+    ends[k].erase(std::unique(ends[k].begin(), ends[k].end()), ends[k].end());
+    for (std::int32_t f : ends[k]) todo[k].seeds.push_back(features.points.row(f).cast<double>().transpose());
+  }
+}
+}  // namespace detail
 
 /// The paper's detector: histogram, non-maximum suppression, ICP refinement, significance (see header).
 struct HistogramOffsetDetector {
@@ -317,10 +376,13 @@ struct HistogramOffsetDetector {
   double min_repeat_ratio = 0.25;  ///< overlap(2t) / overlap(t) at least this
   double max_double_drift = 0.25;  ///< |refine(2t) - 2t| at most this many dense spacings
   IcpOptions icp{};                ///< `icp.spacing` is replaced by the evidence's dense spacing
+  PartOptions part{};              ///< significance on the part that repeats (offsets/part.hpp)
 
   /// The significance thresholds above, for refine_and_test.
   SignificanceOptions significance() const {
-    return {min_votes, min_overlap, min_contrast, min_repeat_ratio, max_double_drift, icp};
+    SignificanceOptions s{min_votes, min_overlap, min_contrast, min_repeat_ratio, max_double_drift, icp};
+    s.part = part;
+    return s;
   }
 
   Status detect(const OffsetEvidence& ev, OffsetDetection& out, const Progress& progress) const {
@@ -338,6 +400,7 @@ struct HistogramOffsetDetector {
     auto t0 = std::chrono::steady_clock::now();
     if (!progress.report("histogram", 0)) return error(StatusCode::cancelled, "cancelled during the offset histogram");
     std::vector<Eigen::Vector3d> offsets;
+    std::vector<std::pair<std::int32_t, std::int32_t>> voters;  // (x, y) of each offset, for the part test
     offsets.reserve(ev.matches.size());
     for (std::size_t i = 0; i < ev.matches.size(); ++i) {
       const std::int32_t j = ev.matches[i].target;
@@ -347,6 +410,7 @@ struct HistogramOffsetDetector {
                      "match " + std::to_string(i) + " names a feature that does not exist");
       offsets.push_back(
           (ev.features.points.row(j) - ev.features.points.row(Eigen::Index(i))).cast<double>().transpose());
+      voters.emplace_back(std::int32_t(i), j);
     }
     OffsetHistogram hist;
     RESTITCH_TRY(build_offset_histogram(offsets, bin_size, hist));
@@ -360,7 +424,8 @@ struct HistogramOffsetDetector {
     t0 = std::chrono::steady_clock::now();
     std::vector<OffsetCandidate> todo;
     for (const HistogramPeak& p : peaks)
-      if (p.mass >= min_votes && todo.size() < max_peaks) todo.push_back({p.center, p.mass, p.votes});
+      if (p.mass >= min_votes && todo.size() < max_peaks) todo.push_back({p.center, p.mass, p.votes, {}});
+    if (part.enabled) detail::collect_part_seeds(ev.features, offsets, voters, bin_size, todo);
     RESTITCH_TRY(refine_and_test(ev, todo, significance(), progress, out.dominant));
     out.timings_ms["refinement"] = detail::elapsed_ms(t0);
     if (!progress.report("refinement", 1)) return error(StatusCode::cancelled, "cancelled during offset refinement");

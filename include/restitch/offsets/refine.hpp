@@ -125,21 +125,56 @@ class SelfAligner {
 
   /// Share of the dense source points p with a partner for p + t within the
   /// overlap radius (see header). 0 for an empty cloud.
-  double overlap(const Eigen::Vector3d& t) const {
-    if (cloud_.sources.empty()) return 0;
+  double overlap(const Eigen::Vector3d& t) const { return overlap(t, cloud_.sources); }
+
+  /// The same share over the given source points only (indices into the
+  /// cloud; a part of the surface, offsets/part.hpp). 0 when `sources` is empty.
+  double overlap(const Eigen::Vector3d& t, const std::vector<std::uint32_t>& sources) const {
+    if (sources.empty()) return 0;
     const double r2 = options_.overlap_radius() * options_.overlap_radius();
     std::size_t hits = 0;
-    for (std::uint32_t i : cloud_.sources) {
+    for (std::uint32_t i : sources) {
       std::uint32_t j;
       double d2;
       if (partner(cloud_, i, t, j, d2) && d2 <= r2) ++hits;
     }
-    return double(hits) / double(cloud_.sources.size());
+    return double(hits) / double(sources.size());
+  }
+
+  /// Source subsets for refine(start, part): indices into the cloud and into
+  /// the anchors (offsets/part.hpp). Targets are always the whole cloud.
+  struct Sources {
+    std::vector<std::uint32_t> cloud, anchors;
+  };
+
+  /// The cloud and the anchors (null when there are none) this aligner was built on.
+  const PointSet& cloud() const { return *cloud_.set; }
+  const PointSet* anchors() const { return anchors_.set; }
+
+  /// Nearest cloud points to `q` within `radius` (appended to `out`, unsorted).
+  void cloud_within(const Eigen::Vector3d& q, double radius, std::vector<std::uint32_t>& out) const {
+    within(cloud_, q, radius, out);
+  }
+  /// Anchors within `radius` of `q` (appended to `out`); none without anchors.
+  void anchors_within(const Eigen::Vector3d& q, double radius, std::vector<std::uint32_t>& out) const {
+    if (anchors_.set) within(anchors_, q, radius, out);
   }
 
   /// Refines `start` by translation-only ICP (see header). Never fails; an
   /// offset with no pairs at all stays where it started, with overlap 0.
-  RefinedOffset refine(const Eigen::Vector3d& start) const {
+  RefinedOffset refine(const Eigen::Vector3d& start) const { return refine(start, cloud_.sources, anchors_.sources); }
+
+  /// The same ICP moving only `part`'s sources (onto the whole cloud); the
+  /// overlap returned is over `part.cloud`.
+  RefinedOffset refine(const Eigen::Vector3d& start, const Sources& part) const {
+    RefinedOffset r = refine(start, part.cloud, part.anchors);
+    r.overlap = overlap(r.offset, part.cloud);
+    return r;
+  }
+
+ private:
+  RefinedOffset refine(const Eigen::Vector3d& start, const std::vector<std::uint32_t>& sources,
+                       const std::vector<std::uint32_t>& anchor_sources) const {
     RefinedOffset r;
     r.offset = start;
     const double trims[2] = {std::max(options_.start_trim, options_.overlap_radius()), options_.overlap_radius()};
@@ -150,7 +185,7 @@ class SelfAligner {
       for (int it = 0; it < options_.max_iterations; ++it) {
         ++r.iterations;
         Eigen::Vector3d step;
-        if (!solve_step(r.offset, trims[stage], anchor_trims[stage], step, r.rms)) break;
+        if (!solve_step(r.offset, trims[stage], anchor_trims[stage], sources, anchor_sources, step, r.rms)) break;
         r.offset += step;
         r.converged = step.norm() < tolerances[stage];
         if (r.converged) break;
@@ -160,7 +195,6 @@ class SelfAligner {
     return r;
   }
 
- private:
   struct Cloud {
     const PointSet* set = nullptr;
     detail::PointSetAdaptor adaptor{};
@@ -200,13 +234,21 @@ class SelfAligner {
     return partner(c, i, t, j, d2, options_.normal_cosine);
   }
 
-  bool solve_step(const Eigen::Vector3d& t, double trim, double anchor_trim, Eigen::Vector3d& step, double& rms) const {
+  static void within(const Cloud& c, const Eigen::Vector3d& q, double radius, std::vector<std::uint32_t>& out) {
+    const float qf[3] = {float(q.x()), float(q.y()), float(q.z())};
+    std::vector<std::pair<std::uint32_t, float>> found;
+    c.tree->radiusSearch(qf, float(radius * radius), found, nanoflann::SearchParams(32, 0, false));  // unsorted
+    for (const auto& f : found) out.push_back(f.first);
+  }
+
+  bool solve_step(const Eigen::Vector3d& t, double trim, double anchor_trim, const std::vector<std::uint32_t>& sources,
+                  const std::vector<std::uint32_t>& anchor_sources, Eigen::Vector3d& step, double& rms) const {
     Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
     double sq = 0, weight = 0;
     std::size_t pairs = 0;
     const double lambda = options_.point_weight, trim2 = trim * trim;
-    for (std::uint32_t i : cloud_.sources) {
+    for (std::uint32_t i : sources) {
       std::uint32_t j;
       double d2;
       if (!partner(cloud_, i, t, j, d2) || d2 > trim2) continue;
@@ -223,7 +265,7 @@ class SelfAligner {
     }
     if (anchors_.set) {
       const double w = options_.anchor_weight, atrim2 = anchor_trim * anchor_trim;
-      for (std::uint32_t i : anchors_.sources) {
+      for (std::uint32_t i : anchor_sources) {
         std::uint32_t j;
         double d2;
         if (!partner(anchors_, i, t, j, d2) || d2 > atrim2) continue;
