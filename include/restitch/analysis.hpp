@@ -31,7 +31,7 @@ namespace restitch {
 /// copies: the pattern test rejected it), or a significant offset that lost the choice of principal
 /// offsets to a stronger one within 60 degrees. `promote_offsets` (analyze.hpp) makes it principal.
 struct RepeatCandidate {
-  Eigen::Vector3d offset = Eigen::Vector3d::Zero();  ///< normalized; snapped onto the vertices where they repeat
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();  ///< normalized, as refined (snapped once promoted)
   int copies = 2;       ///< copies along the offset: 2 for a pair, else estimated from overlap(2t) / overlap(t)
   std::string reason;   ///< "pair" or "parallel"
   int dominant = -1;    ///< index in Analysis::dominant

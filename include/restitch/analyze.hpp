@@ -276,19 +276,17 @@ inline bool is_lattice_vector(const Eigen::Vector3d& v, const std::vector<Eigen:
 }
 
 /// Analysis::candidates (docs/method.md 1.10): pairs, then significant offsets that are not
-/// principal, each snapped like the principal offsets and skipped when it is an integer combination of
-/// the principal offsets or a multiple of an earlier candidate. Ranked as Analysis::dominant.
-inline void collect_candidates(double tolerance, const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices,
-                               const SnapOptions& snap, Analysis& a) {
+/// principal, each skipped when it is an integer combination of the principal offsets or a multiple of
+/// an earlier candidate. Ranked as Analysis::dominant. Offsets as refined, not snapped: snapping costs
+/// O(#vertices) per offset, and a promoted candidate is snapped as a principal offset anyway.
+inline void collect_candidates(double tolerance, Analysis& a) {
   a.candidates.clear();
   std::vector<Eigen::Vector3d> taken;  // the candidates so far
   for (const bool pairs : {true, false})
     for (std::size_t i = 0; i < a.dominant.size(); ++i) {
       const DominantOffset& d = a.dominant[i];
       if (d.promoted || (pairs ? !d.is_pair() : !d.significant)) continue;
-      Eigen::Vector3d v = d.offset;
-      if (vertices)
-        if (const SnapResult s = snap_offset(*vertices, v, snap); s.snapped) v = s.offset;
+      const Eigen::Vector3d v = d.offset;
       bool known = is_lattice_vector(v, a.principal, nullptr, tolerance);
       for (const Eigen::Vector3d& e : taken) known = known || is_lattice_vector(v, {}, &e, tolerance);
       if (known) continue;
@@ -334,7 +332,7 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
   a.A_normalized = fit->A_normalized;
   a.origin_normalized = fit->origin_normalized;
   a.phase = fit->phase;
-  collect_candidates(options.dense_spacing, vertices, options.snap, a);
+  collect_candidates(options.dense_spacing, a);
   return {};
 }
 

@@ -129,7 +129,13 @@ inline SelfAligner::Sources repeated_part(const SelfAligner& aligner, const std:
       if (!mark[i]) mark[i] = 1, out.push_back(i);
     found.clear();
   };
-  for (const Eigen::Vector3d& s : seeds) {
+  // A feature is the target of many votes: each distinct seed is searched once (same part, less work).
+  std::vector<Eigen::Vector3d> unique_seeds = seeds;
+  std::sort(unique_seeds.begin(), unique_seeds.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+  });
+  unique_seeds.erase(std::unique(unique_seeds.begin(), unique_seeds.end()), unique_seeds.end());
+  for (const Eigen::Vector3d& s : unique_seeds) {
     aligner.cloud_within(s, radius, found);
     keep(in_cloud, part.cloud);
     if (in_anchors.empty()) continue;
