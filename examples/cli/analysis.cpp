@@ -64,7 +64,8 @@ bool offsets_are_triples(const PolicyNames& policies) {
 namespace {
 std::string v3(const Eigen::Vector3d& v) {
   char buf[96];
-  std::snprintf(buf, sizeof buf, "(%.5g, %.5g, %.5g)", printable(v.x()), printable(v.y()), printable(v.z()));
+  const double n = v.norm();
+  std::snprintf(buf, sizeof buf, "(%.5g, %.5g, %.5g)", printable(v.x(), n), printable(v.y(), n), printable(v.z(), n));
   return std::string(buf);
 }
 
@@ -90,10 +91,11 @@ void print_candidates(const Analysis& a) {
   for (std::size_t i = 0; i < a.candidates.size(); ++i) {
     const RepeatCandidate& c = a.candidates[i];
     const Eigen::Vector3d v = a.model_units(c);
-    std::printf("  candidate %zu: %s, length %.5g, %s (%s%d copies): resize along it with --offsets %.6g,%.6g,%.6g\n",
-                i + 1, v3(v).c_str(), v.norm(),
+    std::printf("  candidate %zu: (%.4g, %.4g, %.4g), length %.4g, %s (%s%d copies): resize along it with --offsets "
+                "%.4g,%.4g,%.4g\n",
+                i + 1, printable(v.x(), v.norm()), printable(v.y(), v.norm()), printable(v.z(), v.norm()), v.norm(),
                 c.reason == "pair" ? "a pair" : "parallel to a principal offset", c.reason == "pair" ? "" : "about ",
-                c.copies, printable(v.x()), printable(v.y()), printable(v.z()));
+                c.copies, printable(v.x(), v.norm()), printable(v.y(), v.norm()), printable(v.z(), v.norm()));
   }
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -36,8 +37,9 @@ Progress terminal_progress();
 /// Writes `j` to FILE, or to stdout for "-" (temporary file + rename for files).
 Status write_json(const nlohmann::json& j, const std::string& where);
 
-/// x, or +0 for -0: printed offsets never show "-0".
-inline double printable(double x) { return x == 0 ? 0.0 : x; }
+/// x for printing: +0 for -0 (never "-0") and for a component under 1e-4 of the vector's `length`
+/// (refinement noise: an ICP-refined offset is good to about 1e-4 of its length).
+inline double printable(double x, double length = 0) { return x == 0 || std::abs(x) < 1e-4 * length ? 0.0 : x; }
 
 /// The analysis policies chosen on the command line (--descriptor, --matcher, --detector).
 struct PolicyNames {

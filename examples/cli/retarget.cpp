@@ -50,7 +50,8 @@ Status use_candidates_for_size(const ResizeArgs& args, const Mesh& mesh, Analysi
     const Eigen::Vector3d& v = offsets.back();
     if (!quiet)
       std::printf("no principal offset runs along %c: using candidate %d (%.5g, %.5g, %.5g) (%s, %d copies)\n",
-                  "xyz"[world_axis_of(cand.offset)], c + 1, printable(v.x()), printable(v.y()), printable(v.z()),
+                  "xyz"[world_axis_of(cand.offset)], c + 1, printable(v.x(), v.norm()), printable(v.y(), v.norm()),
+                  printable(v.z(), v.norm()),
                   cand.reason.c_str(),
                   cand.copies);
   }

@@ -459,7 +459,7 @@ Status promote_offsets(const Mesh& mesh, const AnalysisOptions<D, M, Det>& optio
       const OffsetEvidence evidence{b.dense,   no_features, no_matches, options.dense_spacing,
                                     0.0,       anchors.size() ? &anchors : nullptr};
       std::vector<DominantOffset> added;
-      RESTITCH_TRY(refine_and_test(evidence, {OffsetCandidate{t, 0, 0}}, SignificanceOptions{}, {}, added));
+      RESTITCH_TRY(refine_and_test(evidence, {OffsetCandidate{t, 0, 0, {}}}, SignificanceOptions{}, {}, added));
       if (added.empty()) return error(StatusCode::internal, "the promoted offset was not refined");
       found = int(b.dominant.size());
       b.dominant.push_back(added.front());
