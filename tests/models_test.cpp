@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <fstream>
+#include <utility>
 
 #include "restitch/io/gltf.hpp"
 #include "restitch/restitch.hpp"
@@ -57,6 +58,15 @@ bool same_repeat(const Eigen::Vector3d& v, const Eigen::Vector3d& e) {
 
 bool shared_models_present() { return std::ifstream(std::string(RESTITCH_SHARED_MODELS) + "/MANIFEST.tsv").good(); }
 
+// A model of ../shared/models and its analysis (REQUIREs both to succeed).
+std::pair<Mesh, Analysis> load_and_analyze(const char* file) {
+  auto mesh = load_gltf(std::string(RESTITCH_SHARED_MODELS) + "/" + file);
+  REQUIRE(mesh.ok());
+  auto a = analyze(*mesh);
+  REQUIRE(a.ok());
+  return {std::move(*mesh), std::move(*a)};
+}
+
 }  // namespace
 
 TEST_CASE("models: the listed repeats longer than tau are found, and resizing along them works", "[models][slow]") {
@@ -66,10 +76,9 @@ TEST_CASE("models: the listed repeats longer than tau are found, and resizing al
   }
   for (const Expected& e : kFound) {
     INFO(e.file);
-    auto mesh = load_gltf(std::string(RESTITCH_SHARED_MODELS) + "/" + e.file);
-    REQUIRE(mesh.ok());
-    auto a = analyze(*mesh);
-    REQUIRE(a.ok());
+    auto [model, analysis] = load_and_analyze(e.file);
+    const Mesh* mesh = &model;
+    const Analysis* a = &analysis;
     bool found = false;
     for (const Eigen::Vector3d& v : a->principal_model_units()) found |= same_repeat(v, e.offset);
     CHECK(found);
@@ -95,10 +104,9 @@ TEST_CASE("models: the listed 2-copy repeats are candidates, and promoting one r
   }
   for (const Expected& e : kCandidates) {
     INFO(e.file);
-    auto mesh = load_gltf(std::string(RESTITCH_SHARED_MODELS) + "/" + e.file);
-    REQUIRE(mesh.ok());
-    auto a = analyze(*mesh);
-    REQUIRE(a.ok());
+    auto [model, analysis] = load_and_analyze(e.file);
+    const Mesh* mesh = &model;
+    Analysis* a = &analysis;
     int found = -1;
     for (std::size_t c = 0; c < a->candidates.size(); ++c)
       if (found < 0 && same_repeat(a->model_units(a->candidates[c]), e.offset)) found = int(c);

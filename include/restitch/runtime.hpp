@@ -113,38 +113,14 @@ class AnyRetargeter {
         r_);
   }
   Result<RetargetResult> retarget(const Eigen::Array3i& steps, const Progress& progress = {}) {
-    RESTITCH_TRY(status());
-    return std::visit(
-        [&](auto& r) -> Result<RetargetResult> {
-          if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>)
-            return error(StatusCode::internal, "no retargeter");
-          else
-            return r.retarget(steps, progress);
-        },
-        r_);
+    return on_retargeter<RetargetResult>(*this, [&](auto& r) { return r.retarget(steps, progress); });
   }
   Result<SeamMrf> labelling_problem(const Eigen::Array3i& steps) {
-    RESTITCH_TRY(status());
-    return std::visit(
-        [&](auto& r) -> Result<SeamMrf> {
-          if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>)
-            return error(StatusCode::internal, "no retargeter");
-          else
-            return r.labelling_problem(steps);
-        },
-        r_);
+    return on_retargeter<SeamMrf>(*this, [&](auto& r) { return r.labelling_problem(steps); });
   }
   /// Retargeter::retarget_to_size of the chosen label space.
   Result<RetargetResult> retarget_to_size(const Eigen::Vector3d& size, bool exact, const Progress& progress = {}) {
-    RESTITCH_TRY(status());
-    return std::visit(
-        [&](auto& r) -> Result<RetargetResult> {
-          if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>)
-            return error(StatusCode::internal, "no retargeter");
-          else
-            return r.retarget_to_size(size, exact, progress);
-        },
-        r_);
+    return on_retargeter<RetargetResult>(*this, [&](auto& r) { return r.retarget_to_size(size, exact, progress); });
   }
   /// Retargeter::set_pivot of the chosen label space.
   void set_pivot(const Pivots& pivot) {
@@ -155,18 +131,25 @@ class AnyRetargeter {
         r_);
   }
   Result<Eigen::Array3i> steps_for_size(const Eigen::Vector3d& size) const {
-    RESTITCH_TRY(status());
-    return std::visit(
-        [&](const auto& r) -> Result<Eigen::Array3i> {
-          if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>)
-            return error(StatusCode::internal, "no retargeter");
-          else
-            return r.steps_for_size(size);
-        },
-        r_);
+    return on_retargeter<Eigen::Array3i>(*this, [&](const auto& r) { return r.steps_for_size(size); });
   }
 
  private:
+  /// `call(retargeter)` on the chosen label space's Retargeter (of `self`, const or not), or the
+  /// status when it failed.
+  template <class T, class Self, class Call>
+  static Result<T> on_retargeter(Self& self, Call&& call) {
+    RESTITCH_TRY(self.status());
+    return std::visit(
+        [&](auto& r) -> Result<T> {
+          if constexpr (std::is_same_v<std::decay_t<decltype(r)>, std::monostate>)
+            return error(StatusCode::internal, "no retargeter");
+          else
+            return call(r);
+        },
+        self.r_);
+  }
+
   Status status_;
   std::variant<std::monostate, Retargeter<LatticeLabels>, Retargeter<RegularLabels>> r_;
 };
