@@ -183,7 +183,7 @@ TEST_CASE("minority repeat: small windows in a flat door are found on the part t
   }
   SECTION("without it (the paper's whole-surface tests) the door has no repeat") {
     AnalysisOptions<> options;
-    options.detector.part.enabled = false;
+    options.detector.significance.part.enabled = false;
     const Result<Analysis> a = analyze(mesh, options);
     REQUIRE(a.ok());
     CHECK(a->principal.empty());

@@ -156,6 +156,15 @@
 
 namespace restitch {
 
+/// The shared significance tests as the autocorrelation detector runs them (see the header comment).
+inline SignificanceOptions autocorrelation_significance() {
+  SignificanceOptions s;
+  s.min_votes = 0;
+  s.axis_contrast = true;
+  s.part.enabled = false;
+  return s;
+}
+
 /// The autocorrelation offset detector (see the header comment; the policy contract is in offsets/detector.hpp).
 struct AutocorrelationOffsetDetector {
   static constexpr const char* name = "autocorrelation";
@@ -167,16 +176,9 @@ struct AutocorrelationOffsetDetector {
   double contrast_distance = 2;      ///< d of the radial contrast, in voxels
   double suppression_radius = 0.15;
   std::size_t max_peaks = 20;
-  double min_overlap = 1.0 / 3.0;
-  double min_contrast = 0.01;
-  double min_repeat_ratio = 0.25;  ///< overlap(2t) / overlap(t) at least this
-  double max_double_drift = 0.25;  ///< |refine(2t) - 2t| at most this many dense spacings
-  IcpOptions icp{};                ///< `icp.spacing` is replaced by the evidence's dense spacing
-
-  /// The significance thresholds above, for refine_and_test (no mass test: min_strength filters first).
-  SignificanceOptions significance() const {
-    return {0, min_overlap, min_contrast, min_repeat_ratio, max_double_drift, icp, true};
-  }
+  /// The significance tests, for refine_and_test: no mass test (min_strength filters first), the
+  /// contrast along each world axis at 2t (see the header comment), and no part test (no votes).
+  SignificanceOptions significance = autocorrelation_significance();
 
   Status detect(const OffsetEvidence& ev, OffsetDetection& out, const Progress& progress) const {
     out = OffsetDetection{};
@@ -184,7 +186,7 @@ struct AutocorrelationOffsetDetector {
       return error(StatusCode::invalid_argument, "the dense samples need one normal per point");
     if (!(ev.dense_spacing > 0) || !std::isfinite(ev.dense_spacing) || !(ev.tau >= 0) || !std::isfinite(ev.tau))
       return error(StatusCode::invalid_argument, "the dense spacing must be positive and tau non-negative");
-    if (!(max_peaks >= 1 && significance().valid() && suppression_radius >= 0 && std::isfinite(suppression_radius) &&
+    if (!(max_peaks >= 1 && significance.valid() && suppression_radius >= 0 && std::isfinite(suppression_radius) &&
           min_strength >= 0 && min_strength <= 1 && std::isfinite(min_peak_contrast) && contrast_distance > 0 &&
           std::isfinite(contrast_distance)))
       return error(StatusCode::invalid_argument, "AutocorrelationOffsetDetector parameters out of range");
@@ -213,7 +215,7 @@ struct AutocorrelationOffsetDetector {
       const auto votes = std::size_t(std::llround(peaks[k].value * dense));
       todo.push_back({peaks[k].offset, votes, votes, {}});
     }
-    RESTITCH_TRY(refine_and_test(ev, todo, significance(), progress, out.dominant));
+    RESTITCH_TRY(refine_and_test(ev, todo, significance, progress, out.dominant));
     out.timings_ms["refinement"] = detail::elapsed_ms(t0);
     if (!progress.report("refinement", 1)) return error(StatusCode::cancelled, "cancelled during offset refinement");
     return {};

@@ -370,20 +370,8 @@ struct HistogramOffsetDetector {
   double bin_size = 0.05;
   double suppression_radius = 0.15;
   std::size_t max_peaks = 20;
-  std::size_t min_votes = 5;
-  double min_overlap = 1.0 / 3.0;
-  double min_contrast = 0.01;
-  double min_repeat_ratio = 0.25;  ///< overlap(2t) / overlap(t) at least this
-  double max_double_drift = 0.25;  ///< |refine(2t) - 2t| at most this many dense spacings
-  IcpOptions icp{};                ///< `icp.spacing` is replaced by the evidence's dense spacing
-  PartOptions part{};              ///< significance on the part that repeats (offsets/part.hpp)
-
-  /// The significance thresholds above, for refine_and_test.
-  SignificanceOptions significance() const {
-    SignificanceOptions s{min_votes, min_overlap, min_contrast, min_repeat_ratio, max_double_drift, icp};
-    s.part = part;
-    return s;
-  }
+  /// The significance tests (mass, overlap, contrast, pattern, the part test), for refine_and_test.
+  SignificanceOptions significance{};
 
   Status detect(const OffsetEvidence& ev, OffsetDetection& out, const Progress& progress) const {
     out = OffsetDetection{};
@@ -393,7 +381,7 @@ struct HistogramOffsetDetector {
       return error(StatusCode::invalid_argument, "the dense samples need one normal per point");
     if (!(ev.dense_spacing > 0) || !std::isfinite(ev.dense_spacing) || !(ev.tau >= 0) || !std::isfinite(ev.tau))
       return error(StatusCode::invalid_argument, "the dense spacing must be positive and tau non-negative");
-    if (!(max_peaks >= 1 && significance().valid() && suppression_radius >= 0 && std::isfinite(suppression_radius)))
+    if (!(max_peaks >= 1 && significance.valid() && suppression_radius >= 0 && std::isfinite(suppression_radius)))
       return error(StatusCode::invalid_argument, "HistogramOffsetDetector parameters out of range");
 
     // 1. Histogram and peaks.
@@ -424,9 +412,9 @@ struct HistogramOffsetDetector {
     t0 = std::chrono::steady_clock::now();
     std::vector<OffsetCandidate> todo;
     for (const HistogramPeak& p : peaks)
-      if (p.mass >= min_votes && todo.size() < max_peaks) todo.push_back({p.center, p.mass, p.votes, {}});
-    if (part.enabled) detail::collect_part_seeds(ev.features, offsets, voters, bin_size, todo);
-    RESTITCH_TRY(refine_and_test(ev, todo, significance(), progress, out.dominant));
+      if (p.mass >= significance.min_votes && todo.size() < max_peaks) todo.push_back({p.center, p.mass, p.votes, {}});
+    if (significance.part.enabled) detail::collect_part_seeds(ev.features, offsets, voters, bin_size, todo);
+    RESTITCH_TRY(refine_and_test(ev, todo, significance, progress, out.dominant));
     out.timings_ms["refinement"] = detail::elapsed_ms(t0);
     if (!progress.report("refinement", 1)) return error(StatusCode::cancelled, "cancelled during offset refinement");
     return {};
