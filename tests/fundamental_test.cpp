@@ -3,9 +3,11 @@
 // divided further where a fraction of it is no period (the facade's wall slides).
 #include <catch2/catch.hpp>
 
+#include "restitch/analyze.hpp"
 #include "restitch/families/families.hpp"
 #include "restitch/offsets/fundamental.hpp"
 #include "restitch/sampling/poisson_disk.hpp"
+#include "support/mesh_builders.hpp"
 
 using namespace restitch;
 
@@ -73,4 +75,35 @@ TEST_CASE("fundamental_period: a divisor closer than the overlap radius to the n
   const FundamentalPeriod any = fundamental_period(aligner, Eigen::Vector3d(0.5, 0, 0), 0.0, 0.0, o);
   CHECK(any.offset.norm() >= 3 * 0.02 - 1e-12);
   CHECK(any.divisor >= 2);
+}
+
+// docs/method.md 1.6.1: a period under 3 dense spacings (2.5 here) is out of reach of the search
+// of 1.6; the analysis finds it on finer samples, from a multiple that is significant or a pair.
+TEST_CASE("short periods: 40 slats 2.5 dense spacings apart are found on finer samples", "[fundamental][analyze]") {
+  const double pitch = 0.1, width = 4.0;  // normalized pitch 0.1 / (width / 2) = 0.05 < 3 x 0.02
+  Mesh m;
+  for (int j = 0; j < 40; ++j) test::add_box(m, {0, j * pitch, 0}, {width, j * pitch + 0.02, 0.25});
+  for (const double x : {0.5, 3.5}) test::add_box(m, {x, -0.05, 0.26}, {x + 0.03, 40 * pitch, 0.29});  // two cords
+  REQUIRE(validate(m).ok());
+  const Normalization n = Normalization::of(bounding_box(m));
+  AnalysisOptions<> options;
+  REQUIRE(n.to_normalized_offset(Eigen::Vector3d(0, pitch, 0)).norm() <
+          options.fundamental.min_length * options.dense_spacing);
+  const auto has_pitch = [&](const Analysis& a) {
+    for (const Eigen::Vector3d& p : a.principal_model_units())  // the pitch within 1% of it
+      if (std::abs(std::abs(p.y()) - pitch) < 0.01 * pitch && std::abs(p.x()) + std::abs(p.z()) < 0.01 * pitch)
+        return true;
+    return false;
+  };
+  auto found = analyze(m, options);
+  REQUIRE(found);
+  CHECK(has_pitch(*found));
+  bool fine = false;
+  for (const DominantOffset& d : found->dominant)
+    for (const OffsetTest& t : d.tests) fine = fine || (d.significant && t.name == "fine_divisor" && t.passed);
+  CHECK(fine);
+  options.find_short_periods = false;  // without the finer search, the pitch is out of reach
+  auto coarse = analyze(m, options);
+  REQUIRE(coarse);
+  CHECK_FALSE(has_pitch(*coarse));
 }

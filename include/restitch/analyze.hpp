@@ -169,6 +169,10 @@ struct AnalysisOptions {
   /// its fundamental period (offsets/fundamental.hpp).
   bool find_fundamentals = true;
   FundamentalOptions fundamental{};
+  /// Look for periods shorter than the dense samples resolve (3 dense spacings) inside the pairs
+  /// (docs/method.md 1.6.1), on samples `fine_spacing_ratio` times as far apart.
+  bool find_short_periods = true;
+  double fine_spacing_ratio = 0.5;
 };
 
 namespace detail {
@@ -217,6 +221,8 @@ Status check_analysis_options(const AnalysisOptions<D, M, Det>& options) {
     return error(StatusCode::invalid_argument, "the minimum angle between principal offsets must be in (0, pi/2]");
   if (!finite_positive(options.dummy_length))
     return error(StatusCode::invalid_argument, "the dummy direction length must be a positive finite length");
+  if (!(options.fine_spacing_ratio > 0 && options.fine_spacing_ratio <= 1))
+    return error(StatusCode::invalid_argument, "the fine spacing ratio must be in (0, 1]");
   return {};
 }
 
@@ -273,6 +279,78 @@ inline bool is_lattice_vector(const Eigen::Vector3d& v, const std::vector<Eigen:
   for (std::size_t k = 0; k < basis.size(); ++k) B.col(Eigen::Index(k)) = basis[k];
   const Eigen::VectorXd c = B.colPivHouseholderQr().solve(v).array().round().matrix();
   return c.cwiseAbs().maxCoeff() >= 1 && (B * c - v).norm() <= tolerance;
+}
+
+/// docs/method.md 1.6.1: the periods shorter than the dense samples resolve (3 dense spacings h).
+/// A significant or pair dominant offset t (1.6 never divides pairs) may be k periods p with
+/// |p| = |t| / k under 3 h, where 1.6 cannot look. For each such divisor, 3 h' <= |t| / k < 3 h with
+/// h' = fine_spacing_ratio x h, a screen on the dense samples first asks what every period has,
+/// overlap(t / k) >= overlap(t) - overlap_slack (1.6); the divisors that pass are searched on finer
+/// samples at h': for k from the largest down, ICP from t / k on the fine samples gives p; p is kept
+/// when t is nearer a multiple m p, m >= 2, than any other (|t - m p| <= |p| / 2: a pair refined on a
+/// slide, as the blinds' tilted slats, is a multiple plus part of the slide) and p passes every
+/// significance test of offsets/detector.hpp on the fine samples. The first (shortest) kept p
+/// replaces t, significant, with its divisor multiplied by m. The fine samples are drawn only when a
+/// divisor passes the screen, so most models pay a few overlaps.
+template <class D, class M, class Det>
+Status find_short_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options, Analysis& a) {
+  if (!options.find_fundamentals || !options.find_short_periods || a.dense.size() == 0) return {};
+  const double h = options.dense_spacing, hf = h * options.fine_spacing_ratio;
+  const double coarse_min = options.fundamental.min_length * h, fine_min = options.fundamental.min_length * hf;
+  SignificanceOptions tests;
+  tests.icp.spacing = h;
+  std::unique_ptr<SelfAligner> coarse;  // built when some offset has a short divisor
+  std::vector<std::pair<std::size_t, std::vector<int>>> todo;  // (dominant, divisors that pass the screen)
+  for (std::size_t i = 0; i < a.dominant.size(); ++i) {
+    const DominantOffset& d = a.dominant[i];
+    if (!d.significant && !d.is_pair()) continue;
+    const double len = d.offset.norm();
+    std::vector<int> ks;
+    for (int k = options.fundamental.max_divisor; k >= 2; --k) {
+      if (!(len / k >= fine_min && len / k < coarse_min)) continue;
+      if (!coarse) coarse = std::make_unique<SelfAligner>(a.dense, tests.icp);
+      if (coarse->overlap(d.offset / double(k)) >= coarse->overlap(d.offset) - options.fundamental.overlap_slack)
+        ks.push_back(k);
+    }
+    if (!ks.empty()) todo.emplace_back(i, std::move(ks));
+  }
+  if (todo.empty()) return {};
+  const auto t0 = std::chrono::steady_clock::now();
+  Result<PointSet> fine = poisson_disk_sample(mesh, a.normalization, hf, options.seed + 3, {});
+  if (!fine) return fine.status();
+  a.timings_ms["fine sampling"] = elapsed_ms(t0);  // part of "lattice"; present only when drawn
+  tests.icp.spacing = hf;
+  const SelfAligner aligner(*fine, tests.icp);
+  const double radius = tests.icp.overlap_radius();
+  const PointSet no_features;
+  const std::vector<Match> no_matches;
+  const OffsetEvidence evidence{*fine, no_features, no_matches, hf, fine_min, nullptr};
+  std::vector<Eigen::Vector3d> found;  // short periods kept so far: their multiples need no search
+  for (const auto& [i, ks] : todo) {
+    DominantOffset& d = a.dominant[i];
+    bool known = false;
+    for (const Eigen::Vector3d& p : found) known = known || is_lattice_vector(d.offset, {}, &p, radius);
+    if (known) continue;
+    for (const int k : ks) {  // largest divisor first: the shortest period wins
+      const Eigen::Vector3d p = aligner.refine(d.offset / double(k)).offset;
+      const double m = std::round(d.offset.dot(p) / std::max(p.squaredNorm(), 1e-300));
+      if (!(p.norm() >= fine_min) || m < 2 || (d.offset - m * p).norm() > 0.5 * p.norm()) continue;
+      std::vector<DominantOffset> tested;
+      RESTITCH_TRY(refine_and_test(evidence, {OffsetCandidate{p, d.votes, d.bin_votes, {}}}, tests, {}, tested));
+      if (tested.empty() || !tested.front().significant) continue;
+      DominantOffset s = std::move(tested.front());
+      s.bin_center = d.bin_center;
+      s.divisor = d.divisor * int(m);
+      std::vector<OffsetTest> record = std::move(d.tests);
+      record_test(record, "fine_divisor", m, 2);
+      for (OffsetTest& t : s.tests) t.name = "fine_" + t.name, record.push_back(t);
+      s.tests = std::move(record);
+      d = std::move(s);
+      found.push_back(d.offset);
+      break;
+    }
+  }
+  return {};
 }
 
 /// Analysis::candidates (docs/method.md 1.10): pairs, then significant offsets that are not
@@ -342,6 +420,7 @@ Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>&
   Eigen::Matrix<double, Eigen::Dynamic, 3> P;  // unique vertex positions, normalized (offsets/snap.hpp)
   if (options.snap_to_vertices) P = unique_normalized_vertices(mesh, a.normalization);
   reduce_to_fundamental_periods(options, options.snap_to_vertices ? &P : nullptr, a);
+  RESTITCH_TRY(find_short_periods(mesh, options, a));
   return select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, a);
 }
 
