@@ -282,8 +282,11 @@ inline bool is_lattice_vector(const Eigen::Vector3d& v, const std::vector<Eigen:
 }
 
 /// docs/method.md 1.6.1: the periods shorter than the dense samples resolve (3 dense spacings h).
-/// A significant or pair dominant offset t (1.6 never divides pairs) may be k periods p with
-/// |p| = |t| / k under 3 h, where 1.6 cannot look. For each such divisor, 3 h' <= |t| / k < 3 h with
+/// A pair t (1.6 never divides pairs), or a significant t so short that 1.6 could not try t / 2
+/// (|t| / 2 < 3 h), may be k periods p with |p| = |t| / k under 3 h, where 1.6 cannot look. (A longer
+/// significant t is not searched: on most models some t / k passes the screen below, the overlap
+/// being blurred over 1.5 h, and the fine samples would cost every model.) For each divisor k with
+/// 3 h' <= |t| / k < 3 h, with
 /// h' = fine_spacing_ratio x h, a screen on the dense samples first asks what every period has,
 /// overlap(t / k) >= overlap(t) - overlap_slack (1.6); the divisors that pass are searched on finer
 /// samples at h': for k from the largest down, ICP from t / k on the fine samples gives p; p is kept
@@ -303,8 +306,8 @@ Status find_short_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
   std::vector<std::pair<std::size_t, std::vector<int>>> todo;  // (dominant, divisors that pass the screen)
   for (std::size_t i = 0; i < a.dominant.size(); ++i) {
     const DominantOffset& d = a.dominant[i];
-    if (!d.significant && !d.is_pair()) continue;
     const double len = d.offset.norm();
+    if (!d.is_pair() && !(d.significant && len / 2 < coarse_min)) continue;
     std::vector<int> ks;
     for (int k = options.fundamental.max_divisor; k >= 2; --k) {
       if (!(len / k >= fine_min && len / k < coarse_min)) continue;
