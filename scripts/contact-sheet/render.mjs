@@ -3,14 +3,22 @@
 // playwright-core. No HTTP server: the page's requests to http://sheet.invalid/ are answered from disk
 // (the page, three.js from NODE_MODULES, the models from OUT_DIR). Each PNG is written under a temporary
 // name and renamed, so a failed run leaves no half-written picture; any failure exits non-zero.
-// Usage: node scripts/contact-sheet/render.mjs NODE_MODULES OUT_DIR
+// Usage: node scripts/contact-sheet/render.mjs NODE_MODULES OUT_DIR [--cell PX] [--only NAME_PART] [--prefix NAME]
+// (--cell, --only and --prefix, to look closer at some rows: bigger cells, the rows whose model name
+// contains one of the comma-separated NAME_PARTs, written as OUT_DIR/NAME.png and OUT_DIR/NAME-small.png.)
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import { createRequire } from 'node:module';
 import { fileURLToPath } from 'node:url';
 
-const [nodeModules, outDir] = process.argv.slice(2).map((p) => p && path.resolve(p));
+const arg = (name, fallback) => {
+  const i = process.argv.indexOf(name);
+  return i > 0 && process.argv[i + 1] ? process.argv[i + 1] : fallback;
+};
+const [nodeModules, outDir] = process.argv.slice(2, 4).map((p) => p && !p.startsWith('--') && path.resolve(p));
+const options = { cell: Number(arg('--cell', '300')), only: arg('--only', '') };
+const prefix = arg('--prefix', 'contact-sheet');
 if (!nodeModules || !outDir) {
   console.error('usage: node render.mjs NODE_MODULES OUT_DIR');
   process.exit(2);
@@ -56,9 +64,9 @@ try {
   await page.waitForFunction(() => typeof window.renderSheet === 'function', null, { timeout: 60000, polling: 100 });
   const t0 = Date.now();
   page.setDefaultTimeout(0);
-  const result = await page.evaluate((m) => window.renderSheet(m), manifest);
+  const result = await page.evaluate(([m, o]) => window.renderSheet(m, o), [manifest, options]);
   if (errors.length) throw new Error(`page errors: ${errors.join(' | ')}`);
-  for (const [key, name] of [['full', 'contact-sheet.png'], ['small', 'contact-sheet-small.png']]) {
+  for (const [key, name] of [['full', `${prefix}.png`], ['small', `${prefix}-small.png`]]) {
     const png = Buffer.from(result[key].replace(/^data:image\/png;base64,/, ''), 'base64');
     if (png.length < 1000 || png.readUInt32BE(0) !== 0x89504e47) throw new Error(`${name}: the page returned no PNG`);
     const target = path.join(outDir, name);
