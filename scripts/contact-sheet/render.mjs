@@ -60,7 +60,8 @@ try {
   page.on('pageerror', (e) => fail(e.message));
   page.on('console', (m) => { if (m.type() === 'error') fail(m.text()); });
   page.on('requestfailed', (r) => fail(`${r.url()}: ${r.failure() && r.failure().errorText}`));
-  await page.goto('http://sheet.invalid/sheet.html');
+  const response = await page.goto('http://sheet.invalid/sheet.html');
+  if (!response || !response.ok()) throw new Error(`sheet.html: ${response ? response.status() : 'no response'}`);
   await page.waitForFunction(() => typeof window.renderSheet === 'function', null, { timeout: 60000, polling: 100 });
   const t0 = Date.now();
   page.setDefaultTimeout(0);
