@@ -15,6 +15,7 @@
 # (three, playwright-core: scripts/install-deps.sh), or a node_modules folder named by
 # $RESTITCH_NODE_MODULES. $RESTITCH_JOBS inputs are processed at a time (default 2).
 set -euo pipefail
+export LC_ALL=C  # the rows' order (globs sort by name)
 if [ $# -lt 2 ]; then
   echo "usage: $0 RESTITCH_BINARY OUT_DIR [MODELS_DIR]" >&2
   exit 2
@@ -31,7 +32,7 @@ done
 command -v jq >/dev/null || { echo "contact-sheet: jq is missing" >&2; exit 2; }
 mkdir -p "$2/in" "$2/rows"
 out="$(realpath "$2")"
-rm -f "$out"/rows/*.json
+rm -f "$out"/rows/*.json "$out"/in/*.glb
 
 for s in $("$bin" sample --list | cut -f1); do "$bin" sample "$s" -o "$out/in/sample_$s.glb" >/dev/null; done
 if [ -d "$models" ]; then
@@ -87,8 +88,9 @@ export -f one
 ls "$out"/in/*.glb | xargs -P "$jobs" -I{} bash -c 'one "$@"' _ "$bin" "$out" {}
 
 # Samples first, then the models, each group by name.
-{ ls "$out"/rows/sample_*.json 2>/dev/null | sort; ls "$out"/rows/*.json | grep -v '/sample_' | sort; } |
-  xargs jq -s --arg v "$("$bin" --version 2>&1 | head -n1)" '{version: $v, rows: add}' >"$out/manifest.json.tmp"
+rows=("$out"/rows/sample_*.json)
+for f in "$out"/rows/*.json; do case "$(basename "$f")" in sample_*) ;; *) rows+=("$f") ;; esac; done
+jq -s --arg v "$("$bin" --version 2>&1 | head -n1)" '{version: $v, rows: add}' "${rows[@]}" >"$out/manifest.json.tmp"
 mv "$out/manifest.json.tmp" "$out/manifest.json"
 echo "contact-sheet: $(jq '.rows | length' "$out/manifest.json") rows, $(jq '[.rows[].cells[] | select(.exit != 0)] | length' "$out/manifest.json") failed resizes; rendering"
 CHROMIUM="${CHROMIUM:-/usr/bin/chromium}" node "$root/scripts/contact-sheet/render.mjs" "$node_modules" "$out"
