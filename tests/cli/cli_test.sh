@@ -75,6 +75,7 @@ node -e '
   if (!(j.sparsity.top7 > 0 && j.sparsity.top7 <= j.sparsity.top20 && j.sparsity.top20 <= 1)) process.exit(1);
 ' "$work/pins-analysis.json" && ok || bad "analyze --json fields or the pin pitch are wrong"
 expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins+3.glb" --steps 3 --json "$work/pins+3.json" --dump-mrf "$work/pins+3.mrf"
+grep -q "seams (geometry energy): .* worst mismatch" "$work/out" && ok || bad "resize: no seam summary line: $(cat "$work/out")"
 validate "$work/pins+3.glb"
 node -e '
   const j = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
@@ -98,7 +99,6 @@ node -e '
   for (const s of j.seams) { if (s.cells.length !== 2 || s.labels.length !== 2 || !(s.mismatch >= 0)) process.exit(1); worst = Math.max(worst, s.mismatch); }
   if (worst !== j.max_seam_mismatch || worst > j.seam_tolerance) process.exit(1);
 ' "$work/pins+3.json" && ok || bad "resize --json: seams, warnings or max_seam_mismatch wrong"
-grep -q "seams (geometry energy): .* worst mismatch" "$work/out" && ok || bad "resize: no seam summary line: $(cat "$work/out")"
 expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-tol.glb" --steps 3 --seam-tolerance 1e-9 --json "$work/pins-tol.json"
 grep -q "restitch: warning: seam between cells .* mismatches by .* model units (tolerance 1e-09)" "$work/err" && ok || bad "resize --seam-tolerance: no warning on stderr: $(cat "$work/err")"
 node -e '
