@@ -6,7 +6,8 @@
 //
 //   version() -> "restitch X.Y.Z"
 //   samples() -> [{name, description, units, parameters: [{name, value, min, max, integer, help}]}]
-//   policies() -> {descriptors: [...], matchers: [...], detectors: [...], label_spaces: [...], pivots: [...]}
+//   policies() -> {descriptors: [...], matchers: [...], detectors: [...], label_spaces: [...], pivots: [...],
+//                  seam_energies: [...]}
 //                                         (each list: the default first)
 //   new Session()
 //     .loadGltf(Uint8Array)              -> {ok, vertices, triangles, bbox_min, bbox_max, warnings[]} | error
@@ -23,6 +24,11 @@
 //                                           pivot: what stays put, "origin" (default), "min", "center" or "max",
 //                                           or three of them for x,y,z ("min,origin,max"); restitch/placement.hpp.
 //                                           report.pivot says which point stayed and the translation.
+//     .retarget(s1, s2, s3, labelSpace, pivot, seamEnergy) -> the same, solved with seamEnergy
+//                                           ("geometry", the default, or "descriptor"; docs/method.md 2.4b),
+//                                           plus seam_faces: Uint8Array, 1 for each face (face order) within the
+//                                           slab of a seam whose mismatch passes the tolerance (report.warnings;
+//                                           docs/method.md 2.8), so the page can draw it red.
 //     .mesh(which)                       -> {ok, positions, normals?, uvs?, colors?, indices, groups[]} | error
 //                                           (which: "input" | "result")
 //     .saveGlb(which)                    -> {ok, bytes: Uint8Array} | error
@@ -57,6 +63,8 @@
 #include <emscripten/val.h>
 
 #include <algorithm>
+#include <array>
+#include <set>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -204,6 +212,13 @@ class Session {
   }
 
   val retarget_about(int s1, int s2, int s3, const std::string& label_space, const std::string& pivot) {
+    return retarget_with(s1, s2, s3, label_space, pivot, "geometry");
+  }
+
+  val retarget_with(int s1, int s2, int s3, const std::string& label_space, const std::string& pivot,
+                    const std::string& seam_energy) {
+    Result<SeamEnergy> energy = seam_energy_named(seam_energy);
+    if (!energy) return status_object(energy.status());
     Result<Pivots> pivots = parse_pivots(pivot);
     if (!pivots) return status_object(pivots.status());
     if (!input_ || !analysis_)
@@ -213,12 +228,13 @@ class Session {
           error(StatusCode::too_large, "the demo allows at most " + std::to_string(max_steps) + " steps per axis"));
     Result<Eigen::Array3i> steps = lattice_steps_from_principal(*analysis_, {s1, s2, s3});
     if (!steps) return status_object(steps.status());
-    if (!retargeter_ || label_space != retargeter_space_) {
+    if (!retargeter_ || label_space != retargeter_space_ || *energy != retargeter_energy_) {
       // Build the new one aside: an unknown name or a grid too large keeps the current one usable.
-      auto next = std::make_unique<AnyRetargeter>(*input_, *analysis_, label_space, retarget_options());
+      auto next = std::make_unique<AnyRetargeter>(*input_, *analysis_, label_space, retarget_options(*energy));
       if (!next->status()) return status_object(next->status());
       retargeter_ = std::move(next);
       retargeter_space_ = label_space;
+      retargeter_energy_ = *energy;
     }
     retargeter_->set_pivot(*pivots);
     Result<RetargetResult> r = retargeter_->retarget(*steps);
@@ -247,9 +263,10 @@ class Session {
  private:
   static constexpr int max_steps = 64;
 
-  static RetargetOptions retarget_options() {
+  static RetargetOptions retarget_options(SeamEnergy energy) {
     RetargetOptions o;
     o.face_labels = true;
+    o.seam_energy = energy;
     return o;
   }
 
@@ -332,7 +349,47 @@ class Session {
     if (r.face_labels.size() == order.size())
       for (std::size_t q = 0; q < order.size(); ++q) face_label[q] = r.face_labels[order[q]];
     out.set("face_labels", typed_array("Int32Array", face_label.data(), face_label.size()));
+    const std::vector<std::uint8_t> bad = seam_faces(r);
+    std::vector<std::uint8_t> seam_face(order.size(), 0);
+    for (std::size_t q = 0; q < order.size(); ++q) seam_face[q] = bad[order[q]];
+    out.set("seam_faces", typed_array("Uint8Array", seam_face.data(), seam_face.size()));
     return out;
+  }
+
+  // Per face: 1 when its centroid lies within the slab (2 sample spacings) of a seam over the tolerance.
+  static std::vector<std::uint8_t> seam_faces(const RetargetResult& r) {
+    const Mesh& m = r.mesh;
+    std::vector<std::uint8_t> flag(m.triangle_count(), 0);
+    const RetargetReport& rep = r.report;
+    std::set<std::array<int, 6>> over;
+    for (const SeamReport& s : rep.seams)
+      if (s.mismatch > rep.seam_tolerance) {
+        over.insert({s.cell_a[0], s.cell_a[1], s.cell_a[2], s.cell_b[0], s.cell_b[1], s.cell_b[2]});
+        over.insert({s.cell_b[0], s.cell_b[1], s.cell_b[2], s.cell_a[0], s.cell_a[1], s.cell_a[2]});
+      }
+    if (over.empty()) return flag;
+    const Eigen::Matrix3d Ainv = r.grid.A.inverse();
+    const CellGrid out(rep.cells_out);
+    double width[3];
+    for (int a = 0; a < 3; ++a) width[a] = 2 * rep.sample_spacing * Ainv.row(a).norm();
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int corner = 0; corner < 3; ++corner) c += m.V.row(m.F(f, corner)).cast<double>().transpose() / 3.0;
+      const Eigen::Vector3d t = Ainv * (c - r.grid.origin);
+      const Eigen::Array3i cell = out.cell_of(t);
+      for (int a = 0; a < 3 && !flag[std::size_t(f)]; ++a)
+        for (int side = -1; side <= 1; side += 2) {
+          Eigen::Array3i n = cell;
+          n[a] += side;
+          const double plane = cell[a] + (side > 0 ? 1 : 0);
+          const double gap = side > 0 ? plane - t[a] : t[a] - plane;  // negative beyond the plane (overhang)
+          if (gap <= width[a] && over.count({cell[0], cell[1], cell[2], n[0], n[1], n[2]})) {
+            flag[std::size_t(f)] = 1;
+            break;
+          }
+        }
+    }
+    return flag;
   }
 
   // Faces ordered by group (stable), so one draw range per group.
@@ -381,6 +438,7 @@ class Session {
   // Refers to *input_ and *analysis_ (kept at stable addresses): reset before either changes.
   std::unique_ptr<AnyRetargeter> retargeter_;
   std::string retargeter_space_;
+  SeamEnergy retargeter_energy_ = SeamEnergy::geometry;
   std::unique_ptr<RetargetResult> result_;
 };
 
@@ -419,6 +477,7 @@ val policies() {
   o.set("detectors", string_array(detector_names()));
   o.set("label_spaces", string_array(label_space_names()));
   o.set("pivots", string_array({"origin", "min", "center", "max"}));
+  o.set("seam_energies", string_array(seam_energy_names()));
   return o;
 }
 
@@ -438,6 +497,7 @@ EMSCRIPTEN_BINDINGS(restitch_web) {
       .function("promote", &Session::promote)
       .function("retarget", &Session::retarget)
       .function("retarget", &Session::retarget_about)
+      .function("retarget", &Session::retarget_with)
       .function("mesh", &Session::mesh)
       .function("saveGlb", &Session::save_glb);
 }

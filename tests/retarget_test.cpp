@@ -6,6 +6,7 @@
 
 #include "restitch/families/families.hpp"
 #include "restitch/io/gltf.hpp"
+#include "restitch/io/json_report.hpp"
 #include "restitch/restitch.hpp"
 #include "support/surface_distance.hpp"
 
@@ -276,4 +277,122 @@ TEST_CASE("seam energy: the labelling problem is metric for Hausdorff and the so
   // The 6-neighbourhood has fewer edges.
   SeamMrf six(cells, k, Neighbourhood::n6);
   CHECK(six.edge_count() < mrf.edge_count());
+}
+
+namespace {
+// A solver that labels every cell with the last label (the whole shift k): for a grown model the low end
+// then copies cells from outside the input (nothing), so its outer seam mismatches by a missing surface.
+struct LastLabelSolver {
+  template <class P>
+  Status solve(const P& problem, std::vector<int>& labels, SolveReport& report, const Progress&) const {
+    labels.assign(std::size_t(problem.node_count()), problem.label_count() - 1);
+    report.energy = 0;
+    return {};
+  }
+};
+}  // namespace
+
+TEST_CASE("retarget: with the geometric seam energy (the default) the sample families at 3, 4 and 5 repeats "
+          "grown by 1 and 3 and shrunk by 1 equal the family generated at that count",
+          "[retarget][samples][slow]") {
+  CHECK(RetargetOptions().seam_energy == SeamEnergy::geometry);
+  for (const families::SampleInfo& info : families::catalog()) {
+    auto base = families::generate(info.name);
+    REQUIRE(base.ok());
+    for (std::size_t g = 0; g < base->generators.size(); ++g)
+      for (const int n : {3, 4, 5}) {
+        // The fence at 3 posts: the analysis finds no repeat along it (two bays are a pair), nothing to resize.
+        if (info.name == "fence" && n == 3) continue;
+        INFO(info.name << " generator " << g << " at " << n << " repeats");
+        auto s = families::generate(info.name, {{base->count_parameters[g], n}});
+        REQUIRE(s.ok());
+        auto a = analyze(s->mesh);
+        REQUIRE(a.ok());
+        const int axis = axis_of(a->lattice, s->generators[g]);
+        REQUIRE(axis >= 0);
+        Retargeter<> r(s->mesh, *a);
+        for (const int k : {1, 3, -1}) {
+          INFO("steps " << k);
+          Eigen::Array3i steps = Eigen::Array3i::Zero();
+          steps[axis] = k;
+          auto out = r.retarget(steps);
+          REQUIRE(out.ok());
+          auto truth = families::generate(info.name, {{s->count_parameters[g], s->counts[g] + k}});
+          REQUIRE(truth.ok());
+          const BoundingBox bt = bounding_box(truth->mesh), bo = bounding_box(out->mesh);
+          const double size = bt.size().norm();
+          CHECK((bt.min - bo.min).norm() < 1e-4 * size);
+          CHECK((bt.max - bo.max).norm() < 1e-4 * size);
+          CHECK(restitch::test::symmetric_surface_distance(out->mesh, truth->mesh, 0.004 * size) < 1e-4 * size);
+          CHECK(out->report.warnings.empty());  // an exact result has no seam over the tolerance
+        }
+      }
+  }
+}
+
+TEST_CASE("retarget: every seam is measured on the geometry and reported; one over the tolerance is a warning",
+          "[retarget][samples]") {
+  const Prepared& p = prepared("bookshelf");
+  const Eigen::Array3i steps = steps_along(p, 0, 2);
+  for (const SeamEnergy energy : {SeamEnergy::geometry, SeamEnergy::descriptor}) {
+    INFO(seam_energy_name(energy));
+    RetargetOptions options;
+    options.seam_energy = energy;
+    Retargeter<> r(p.sample.mesh, p.analysis, options);
+    auto out = r.retarget(steps);
+    REQUIRE(out.ok());
+    const RetargetReport& rep = out->report;
+    CHECK(rep.seam_energy == energy);
+    // The spacing is the analysis' dense spacing (0.02 normalized) in model units, as a median nearest
+    // distance of Poisson-disk samples: between the spacing and twice it.
+    const double spacing = 0.02 / p.analysis.normalization.scale;
+    CHECK(rep.sample_spacing >= spacing);
+    CHECK(rep.sample_spacing < 2 * spacing);
+    CHECK(rep.seam_tolerance == Approx(3 * rep.sample_spacing));
+    // The seams are exactly the face neighbours with different labels (plus ends off their anchor).
+    const CellGrid grid(rep.cells_out);
+    std::size_t inner = 0;
+    for (std::int64_t x = 0; x < grid.size(); ++x)
+      for (int a = 0; a < 3; ++a) {
+        Eigen::Array3i y = grid.cell(x);
+        y[a] += 1;
+        if (grid.inside(y) && out->cell_labels[std::size_t(x)] != out->cell_labels[std::size_t(grid.index(y))])
+          ++inner;
+      }
+    std::size_t listed_inner = 0;
+    double worst = 0;
+    for (const SeamReport& s : rep.seams) {
+      listed_inner += s.outer ? 0 : 1;
+      CHECK((s.label_a != s.label_b).any());
+      CHECK((s.cell_b - s.cell_a).abs().sum() == 1);
+      CHECK(s.mismatch >= 0);
+      worst = std::max(worst, s.mismatch);
+    }
+    CHECK(listed_inner == inner);
+    CHECK(rep.seams.size() > 0);
+    CHECK(rep.max_seam_mismatch == worst);
+    CHECK(rep.max_seam_mismatch <= rep.seam_tolerance);  // the result is exact
+    CHECK(rep.warnings.empty());
+    CHECK(retarget_json(rep)["warnings"].empty());
+    CHECK(retarget_json(rep)["seams"].size() == rep.seams.size());
+  }
+  // A tolerance below the sampling noise: every seam that is not exactly 0 warns.
+  RetargetOptions tight;
+  tight.seam_tolerance = 1e-9;
+  auto out = retarget(p.sample.mesh, p.analysis, steps, tight);
+  REQUIRE(out.ok());
+  std::size_t over = 0;
+  for (const SeamReport& s : out->report.seams) over += s.mismatch > 1e-9;
+  CHECK(over > 0);
+  REQUIRE(out->report.warnings.size() == over);
+  CHECK(out->report.warnings[0].find("seam between cell") == 0);
+  CHECK(out->report.warnings[0].find("model units (tolerance 1e-09)") != std::string::npos);
+  CHECK(retarget_json(out->report)["warnings"].size() == over);
+  // A labelling that leaves the low end empty: its outer seam misses the side panel, the largest mismatch.
+  Retargeter<LatticeLabels, LastLabelSolver> bad(p.sample.mesh, p.analysis);
+  auto b = bad.retarget(steps);
+  REQUIRE(b.ok());
+  REQUIRE(!b->report.warnings.empty());
+  CHECK(b->report.max_seam_mismatch == bad.slabs().empty_mismatch());
+  CHECK(b->report.warnings[0].find("the end of the model") != std::string::npos);
 }

@@ -47,6 +47,7 @@ const settings = {
   detector: query.get('detector'),
   labelSpace: query.get('labels'),
   pivot: query.get('pivot') || 'origin',  // what stays put when resizing (restitch resize --pivot)
+  seamEnergy: query.get('seam'),  // the pairwise term (restitch resize --seam-energy); null: the module's default
   view: 'shaded',
   offsets: true,
   histogram: true,
@@ -117,7 +118,7 @@ function showOffsets() {
 
 function currentSteps() { return [settings.steps.v1, settings.steps.v2, settings.steps.v3]; }
 
-function resizeTo(steps) { return session.resize(steps, settings.labelSpace, settings.pivot); }
+function resizeTo(steps) { return session.resize(steps, settings.labelSpace, settings.pivot, settings.seamEnergy); }
 
 function setSteps(steps) {
   if (!session.state.analysis) return Promise.reject(new Error('no analysed model yet'));
@@ -244,6 +245,7 @@ const handlers = {
   policy: () => session.state.model && session.reanalyze(),
   labelSpace: () => session.state.analysis && resizeTo(currentSteps()).catch(() => {}),
   pivot: () => session.state.analysis && resizeTo(currentSteps()).catch(() => {}),
+  seamEnergy: () => session.state.analysis && resizeTo(currentSteps()).catch(() => {}),
   view: () => { showModel(); view.render(); },
   offsets: (v) => { view.arrowGroup.visible = v; view.render(); },
   histogram: () => view.render(),
@@ -322,6 +324,7 @@ async function start() {
   settings.detector = pick(settings.detector, catalog.policies.detectors || ['histogram']);
   settings.labelSpace = pick(settings.labelSpace, catalog.policies.label_spaces);
   settings.pivot = pick(settings.pivot, catalog.policies.pivots || ['origin']);
+  settings.seamEnergy = pick(settings.seamEnergy, catalog.policies.seam_energies || ['geometry']);
   panel.build({ samples: catalog.samples.map((s) => s.name), policies: catalog.policies }, handlers);
   if (!catalog.samples.some((s) => s.name === settings.sample)) settings.sample = catalog.samples[0].name;
   panel.refresh();

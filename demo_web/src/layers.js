@@ -2,7 +2,9 @@
 //
 //   modelObjects({mesh, view, materials, result}) -> {model, seams}   the model in one of the views:
 //       'shaded' (its own materials), 'labels' (output cells coloured by label, paper Fig. 4c) or
-//       'seams' (grey, plus the faces between differently labelled cells; seams is null otherwise)
+//       'seams' (grey, plus the faces between differently labelled cells; seams is null otherwise).
+//       In 'labels' and 'seams' a seam whose mismatch passes the tolerance (result.report.warnings,
+//       docs/method.md 2.8) is red: its cell face, and the model's faces near it (result.seam_faces).
 //   offsetArrows(principalOffsets, box) -> [ArrowHelper]   principal offsets from the box's centre (paper Fig. 2)
 //   histogramObjects(analysis, extras) -> [Object3D]           offsets of all matches and the dominant
 //                                                              (candidates in cyan) and principal offsets,
@@ -80,8 +82,12 @@ function labelColor(label, out) {
   return out.setHSL((label * 0.618033988749895 + 0.1) % 1, 0.7, 0.45);
 }
 
-// Non-indexed copy with one colour per face: the output cells coloured by their label (paper Fig. 4c).
-function labelGeometry(mesh, faceLabels) {
+export const SEAM_OVER_COLOR = 0xe01010;
+const seamOver = new THREE.Color(SEAM_OVER_COLOR), grey = new THREE.Color(0x9a9a9a);
+
+// Non-indexed copy with one colour per face: the output cells coloured by their label (paper Fig. 4c), or
+// grey without labels; faces flagged in `seamFaces` (near a seam over the tolerance) red.
+function labelGeometry(mesh, faceLabels, seamFaces = null, plain = false) {
   const idx = mesh.indices, pos = mesh.positions, nor = mesh.normals;
   const n = idx.length;
   const p = new Float32Array(n * 3), c = new Float32Array(n * 3), nn = nor ? new Float32Array(n * 3) : null;
@@ -90,7 +96,11 @@ function labelGeometry(mesh, faceLabels) {
     const v = idx[i];
     p[3 * i] = pos[3 * v]; p[3 * i + 1] = pos[3 * v + 1]; p[3 * i + 2] = pos[3 * v + 2];
     if (nn) { nn[3 * i] = nor[3 * v]; nn[3 * i + 1] = nor[3 * v + 1]; nn[3 * i + 2] = nor[3 * v + 2]; }
-    if (i % 3 === 0) labelColor(faceLabels ? faceLabels[i / 3] : 0, col);
+    if (i % 3 === 0) {
+      if (seamFaces && seamFaces[i / 3]) col.copy(seamOver);
+      else if (plain) col.copy(grey);
+      else labelColor(faceLabels ? faceLabels[i / 3] : 0, col);
+    }
     c[3 * i] = col.r; c[3 * i + 1] = col.g; c[3 * i + 2] = col.b;
   }
   const g = new THREE.BufferGeometry();
@@ -101,40 +111,81 @@ function labelGeometry(mesh, faceLabels) {
   return g;
 }
 
+// The seams over the tolerance, as keys "i,j,k|i,j,k" (both orders) of their two output cells.
+function seamsOver(result) {
+  const over = new Set();
+  const r = result.report;
+  for (const s of r.seams || []) {
+    if (!(s.mismatch > r.seam_tolerance)) continue;
+    over.add(`${s.cells[0]}|${s.cells[1]}`);
+    over.add(`${s.cells[1]}|${s.cells[0]}`);
+  }
+  return over;
+}
+
 // The seam faces as flat arrays: every face shared by two 6-neighbour output cells with different labels,
-// as triangles (quads) and as outlines (lines), in model units.
-function seamFaces(result) {
+// as triangles (quads) and as outlines (lines), in model units; those of seams over the tolerance (and the
+// ends copied from elsewhere that are) in `badQuads` instead.
+export function seamFaces(result) {
   const [U, V, W] = result.report.cells_out;
   const labels = result.cell_labels;
   const A = result.grid.axes.map((a) => new THREE.Vector3(...a));
   const o = new THREE.Vector3(...result.grid.origin);
   const toModel = (c) => o.clone().addScaledVector(A[0], c[0]).addScaledVector(A[1], c[1]).addScaledVector(A[2], c[2]);
-  const quads = [], lines = [];
+  const quads = [], lines = [], badQuads = [];
+  const over = seamsOver(result);
   const at = (i, j, k) => labels[i + U * (j + V * k)];
   const dims = [U, V, W];
   for (let k = 0; k < W; ++k) for (let j = 0; j < V; ++j) for (let i = 0; i < U; ++i) {
     const x = [i, j, k];
     for (let a = 0; a < 3; ++a) {
       const y = x.slice(); y[a] += 1;
+      const lowEnd = x.slice(); lowEnd[a] -= 1;
+      if (x[a] === 0 && over.has(`${x}|${lowEnd}`)) {  // an end over the tolerance: its outer face
+        const b = (a + 1) % 3, c = (a + 2) % 3;
+        for (const [s, t] of [[0, 0], [1, 0], [1, 1], [0, 0], [1, 1], [0, 1]]) {
+          const q = x.slice(); q[b] += s; q[c] += t;
+          const p = toModel(q);
+          badQuads.push(p.x, p.y, p.z);
+        }
+      }
+      if (y[a] >= dims[a] && over.has(`${x}|${y}`)) {
+        const b = (a + 1) % 3, c = (a + 2) % 3;
+        for (const [s, t] of [[0, 0], [1, 0], [1, 1], [0, 0], [1, 1], [0, 1]]) {
+          const q = x.slice(); q[a] += 1; q[b] += s; q[c] += t;
+          const p = toModel(q);
+          badQuads.push(p.x, p.y, p.z);
+        }
+      }
       if (y[a] >= dims[a] || at(...x) === at(...y)) continue;
       const b = (a + 1) % 3, c = (a + 2) % 3;
       const corners = [[0, 0], [1, 0], [1, 1], [0, 1]].map(([s, t]) => {
         const q = x.slice(); q[a] += 1; q[b] += s; q[c] += t;
         return toModel(q);
       });
-      for (const idx of [0, 1, 2, 0, 2, 3]) quads.push(corners[idx].x, corners[idx].y, corners[idx].z);
+      const target = over.has(`${x}|${y}`) ? badQuads : quads;
+      for (const idx of [0, 1, 2, 0, 2, 3]) target.push(corners[idx].x, corners[idx].y, corners[idx].z);
       for (let e = 0; e < 4; ++e) {
         const p = corners[e], q = corners[(e + 1) % 4];
         lines.push(p.x, p.y, p.z, q.x, q.y, q.z);
       }
     }
   }
-  return { quads, lines };
+  return { quads, lines, badQuads };
 }
 
 function seamObject(result) {
-  const { quads, lines } = seamFaces(result);
+  const { quads, lines, badQuads } = seamFaces(result);
   const group = new THREE.Group();
+  if (badQuads.length) {
+    const bg = new THREE.BufferGeometry();
+    bg.setAttribute('position', new THREE.Float32BufferAttribute(badQuads, 3));
+    const bm = owned(new THREE.MeshBasicMaterial({ color: SEAM_OVER_COLOR, transparent: true, opacity: 0.55,
+                                                   side: THREE.DoubleSide, depthWrite: false }));
+    const bad = new THREE.Mesh(bg, bm);
+    bad.name = 'seams-over-tolerance';
+    group.add(bad);
+  }
   if (!quads.length) return group;
   const qg = new THREE.BufferGeometry();
   qg.setAttribute('position', new THREE.Float32BufferAttribute(quads, 3));
@@ -150,10 +201,16 @@ function seamObject(result) {
 export function modelObjects({ mesh, view, materials = [], result = null }) {
   if (view === 'labels') {
     const m = owned(new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.75, side: THREE.DoubleSide }));
-    return { model: new THREE.Mesh(labelGeometry(mesh, result ? result.face_labels : null), m), seams: null };
+    return { model: new THREE.Mesh(labelGeometry(mesh, result ? result.face_labels : null,
+                                                 result ? result.seam_faces : null), m), seams: null };
   }
   if (view === 'seams') {
-    return { model: new THREE.Mesh(geometryOf(mesh), neutralMaterial), seams: result ? seamObject(result) : null };
+    const flagged = result && result.seam_faces && result.seam_faces.some((f) => f);
+    const model = flagged
+      ? new THREE.Mesh(labelGeometry(mesh, null, result.seam_faces, true),
+                       owned(new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.85, side: THREE.DoubleSide })))
+      : new THREE.Mesh(geometryOf(mesh), neutralMaterial);
+    return { model, seams: result ? seamObject(result) : null };
   }
   return { model: new THREE.Mesh(geometryOf(mesh), mesh.groups.map((g) => materialFor(g, materials))), seams: null };
 }

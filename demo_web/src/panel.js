@@ -8,9 +8,9 @@
 //   panel.refresh()                               shows `settings` again after it was changed in code
 //   panel.showFigures(state)                      the figures table of a Session's state (./session.js)
 //   panel.showProgress(stage, fraction) / panel.showError(message)   (null / '' hide them)
-// `settings` is the object the controls edit: sample, descriptor, matcher, detector, labelSpace, pivot, view ('shaded' |
+// `settings` is the object the controls edit: sample, descriptor, matcher, detector, labelSpace, pivot, seamEnergy, view ('shaded' |
 // 'labels' | 'seams'), offsets, histogram (booleans), steps {v1, v2, v3}. handlers: sample(name), open(),
-// download(), policy() (descriptor or matcher changed), labelSpace(), pivot(), view(), offsets(), histogram().
+// download(), policy() (descriptor or matcher changed), labelSpace(), pivot(), seamEnergy(), view(), offsets(), histogram().
 // The slider names give the size each step count makes along its principal offset, in model units.
 import GUI from 'lil-gui';
 import { candidateLabel, fmt, lengthFormat } from './peaks.js';
@@ -63,7 +63,10 @@ export function figureRows({ model: m, analysis: a, retarget: r, shown, analysis
     rows.push(['label space', `${rep.label_space}, ${rep.cells_out.join(' × ')} cells`]);
     rows.push(['nodes', `${rep.nodes}`]);
     rows.push(['labels', `${rep.labels}`]);
-    rows.push(['cycles', `${rep.cycles}, energy ${fmt(rep.energy, 4)}`]);
+    rows.push(['cycles', `${rep.cycles}, energy ${fmt(rep.energy, 4)}` + (rep.seam_energy ? ` (${rep.seam_energy})` : '')]);
+    if (rep.seams)
+      rows.push(['worst seam', `${fmt(rep.max_seam_mismatch, 3)} ${m.units} (tolerance ` +
+                 `${fmt(rep.seam_tolerance, 3)})` + (rep.warnings.length ? `: ${rep.warnings.length} over, in red` : '')]);
     rows.push(['solve', `${fmt(rep.timings_ms.solve || 0, 3)} ms (energy ${fmt(rep.timings_ms.energy || 0, 3)} ms, ` +
                         `stitch ${fmt(rep.timings_ms.stitch || 0, 3)} ms)`]);
     rows.push(['resize', `${fmt(r.pageMs, 3)} ms in the page (${fmt(r.ms, 3)} ms in the worker)`]);
@@ -98,6 +101,8 @@ export class Panel {
     if (policies.detectors) this.analysisFolder.add(s, 'detector', policies.detectors).onChange(on.policy);
     this.resizeFolder.add(s, 'labelSpace', policies.label_spaces).name('label space').onChange(on.labelSpace);
     if (policies.pivots) this.resizeFolder.add(s, 'pivot', policies.pivots).name('pivot (stays put)').onChange(on.pivot);
+    if (policies.seam_energies)
+      this.resizeFolder.add(s, 'seamEnergy', policies.seam_energies).name('seam energy').onChange(on.seamEnergy);
     this.viewFolder.add(s, 'view', { shaded: 'shaded', 'cells by label': 'labels', seams: 'seams' }).onChange(on.view);
     this.viewFolder.add(s, 'offsets').name('principal offsets').onChange(on.offsets);
     this.viewFolder.add(s, 'histogram').name('offset histogram').onChange(on.histogram);

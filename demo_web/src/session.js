@@ -162,9 +162,9 @@ export class Session {
 
   // Asks for the model resized by `steps` along the principal offsets; see the header for the queue.
   // Resolves with {vertices, triangles, steps, ms} once the view shows it.
-  resize(steps, labelSpace, pivot = 'origin') {
-    const key = `${steps.join(',')}|${labelSpace}|${pivot}`;
-    const job = { steps: steps.slice(), labelSpace, pivot, key, t0: this.#now(), waiters: [] };
+  resize(steps, labelSpace, pivot = 'origin', seamEnergy = 'geometry') {
+    const key = `${steps.join(',')}|${labelSpace}|${pivot}|${seamEnergy}`;
+    const job = { steps: steps.slice(), labelSpace, pivot, seamEnergy, key, t0: this.#now(), waiters: [] };
     const promise = new Promise((resolve, reject) => job.waiters.push({ resolve, reject }));
     this.#next = replace(this.#next, job, 'resize');
     this.#pump();
@@ -303,9 +303,10 @@ export class Session {
     const generation = this.#generation;
     try {
       const msg = await this.#client.request('retarget', { steps: job.steps, labelSpace: job.labelSpace,
-                                                           pivot: job.pivot });
+                                                           pivot: job.pivot, seamEnergy: job.seamEnergy });
       if (generation !== this.#generation) return;
-      const retarget = { steps: job.steps, labelSpace: job.labelSpace, pivot: job.pivot, result: msg.result, mesh: msg.mesh, ms: msg.ms,
+      const retarget = { steps: job.steps, labelSpace: job.labelSpace, pivot: job.pivot, seamEnergy: job.seamEnergy,
+                         result: msg.result, mesh: msg.mesh, ms: msg.ms,
                          pageMs: null };
       this.state.retarget = retarget;
       this.present();

@@ -68,6 +68,7 @@ test('the module lists its samples and policies', () => {
   assert.deepEqual(p.detectors, ['histogram', 'autocorrelation']);
   assert.deepEqual(p.label_spaces, ['lattice', 'regular']);
   assert.deepEqual(p.pivots, ['origin', 'min', 'center', 'max']);
+  assert.deepEqual(p.seam_energies, ['geometry', 'descriptor']);
   assert.match(restitch.version(), /^restitch \d+\.\d+\.\d+$/);
 });
 
@@ -242,6 +243,24 @@ test('the pivot stays put: max keeps the far end, center splits, origin is the d
   assert.equal(bad.ok, false);
   assert.equal(bad.code, 'invalid_argument');
   assert.match(bad.message, /origin, min, center, max/);
+});
+
+test('every seam is reported with its mismatch; the seam energy is chosen by name', () => {
+  const geo = shelf.retarget(2, 0, 0, 'lattice', 'origin', 'geometry');
+  assert.equal(geo.ok, true, geo.message);
+  assert.equal(geo.report.seam_energy, 'geometry');
+  assert.ok(geo.report.seams.length > 0);
+  assert.ok(geo.report.max_seam_mismatch <= geo.report.seam_tolerance, 'an exact resize has no seam over the tolerance');
+  assert.deepEqual(geo.report.warnings, []);
+  assert.equal(geo.seam_faces.length, geo.face_labels.length);
+  assert.ok(geo.seam_faces.every((f) => f === 0));
+  const desc = shelf.retarget(2, 0, 0, 'lattice', 'origin', 'descriptor');
+  assert.equal(desc.ok, true, desc.message);
+  assert.equal(desc.report.seam_energy, 'descriptor');
+  const unknown = shelf.retarget(2, 0, 0, 'lattice', 'origin', 'hausdorff');
+  assert.equal(unknown.ok, false);
+  assert.match(unknown.message, /geometry, descriptor/);
+  assert.equal(shelf.retarget(2, 0, 0, 'lattice').report.seam_energy, 'geometry', 'the default');
 });
 
 test('the regular baseline needs more nodes for the same request', () => {

@@ -192,6 +192,19 @@ test('the pivot goes to the worker with the steps; the same steps about another 
   assert.equal(session.state.retarget.pivot, 'max');
 });
 
+test('the seam energy goes to the worker with the steps; another energy is a new request', async () => {
+  const { session, client } = await readySession();
+  const first = session.resize([1, 0, 0], 'lattice');
+  await client.answer('retarget', retargeted([1, 0, 0], 10));
+  await resolved(first);
+  assert.equal(client.sent('retarget')[0].payload.seamEnergy, 'geometry', 'the default seam energy');
+  const desc = session.resize([1, 0, 0], 'lattice', 'origin', 'descriptor');
+  await client.answer('retarget', retargeted([1, 0, 0], 10));
+  await resolved(desc);
+  assert.deepEqual(client.sent('retarget').map((r) => r.payload.seamEnergy), ['geometry', 'descriptor']);
+  assert.equal(session.state.retarget.seamEnergy, 'descriptor');
+});
+
 test('a stale load answer is ignored after a newer load, whichever arrives first', async () => {
   for (const staleFirst of [true, false]) {
     const { session, client, named } = makeSession();

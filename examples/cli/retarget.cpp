@@ -26,8 +26,9 @@ std::string join(const std::vector<int>& v) {
 namespace {
 
 struct ResizeArgs {
-  std::string input, output, json, dump_mrf, labels = "lattice", pivot = "origin";
-  bool exact = false;
+  std::string input, output, json, dump_mrf, labels = "lattice", pivot = "origin", seam_energy = "geometry";
+  bool exact = false, strict = false;
+  double seam_tolerance = 0;
   PolicyNames policies;
   std::vector<int> steps;
   std::vector<double> size;
@@ -89,7 +90,15 @@ void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen
                 rep.size_nearest.y(), rep.size_nearest.z(), rep.scale.x(), rep.scale.y(), rep.scale.z());
   std::printf("  size %.4g x %.4g x %.4g -> %.4g x %.4g x %.4g\n", rep.size_in.x(), rep.size_in.y(), rep.size_in.z(),
               rep.size_out.x(), rep.size_out.y(), rep.size_out.z());
-  std::printf("  wrote %s: %zu triangles in, %zu out\n", args.output.c_str(), rep.triangles_in, rep.triangles_out);
+  std::printf("  seams (%s energy): %zu, worst mismatch %.4g model units (tolerance %.4g)", seam_energy_name(rep.seam_energy),
+              rep.seams.size(), rep.max_seam_mismatch, rep.seam_tolerance);
+  const SeamReport* worst = nullptr;
+  for (const SeamReport& s : rep.seams)
+    if (!worst || s.mismatch > worst->mismatch) worst = &s;
+  if (worst)
+    std::printf(" between cells (%d,%d,%d) and (%d,%d,%d)%s", worst->cell_a[0], worst->cell_a[1], worst->cell_a[2],
+                worst->cell_b[0], worst->cell_b[1], worst->cell_b[2], worst->outer ? " (the end)" : "");
+  std::printf("\n  wrote %s: %zu triangles in, %zu out\n", args.output.c_str(), rep.triangles_in, rep.triangles_out);
 }
 
 // `restitch resize`: returns the exit code.
@@ -114,6 +123,8 @@ int run_resize(const ResizeArgs& args) {
   RetargetOptions options;
   options.max_problem_size = args.max_problem;
   options.pivot = *pivots;
+  options.seam_tolerance = args.seam_tolerance;
+  if (!parse_seam_energy(args.seam_energy, options.seam_energy)) return exit_usage;  // CLI11 checked it
   AnyRetargeter r(mesh, *a, args.labels, options);
   if (!r.status()) return fail(r.status());
   Result<Eigen::Array3i> steps = requested_steps(args, *a, r, quiet);
@@ -138,8 +149,14 @@ int run_resize(const ResizeArgs& args) {
     j["promoted_offsets"].push_back(detail::vec3(a->normalization.to_model_offset(a->dominant[std::size_t(i)].offset)));
   j["file"] = args.output;
   if (!quiet) print_resize_summary(args, *a, *steps, out->report);
+  for (const std::string& w : out->report.warnings) std::fprintf(stderr, "restitch: warning: %s\n", w.c_str());
   if (!args.json.empty())
     if (Status s = write_json(j, args.json); !s) return fail(s, true);
+  if (args.strict && !out->report.warnings.empty()) {
+    std::fprintf(stderr, "restitch: --strict: %zu seam(s) over the tolerance (exit %d)\n",
+                 out->report.warnings.size(), int(exit_seam));
+    return exit_seam;
+  }
   return exit_ok;
 }
 
@@ -169,6 +186,17 @@ void register_resize(CLI::App& app, int* exit_code) {
                   "label space: lattice (principal offsets) or regular (the paper's baseline)")
       ->check(CLI::IsMember(label_space_names()))
       ->capture_default_str();
+  cmd->add_option("--seam-energy", args->seam_energy,
+                  "pairwise term: geometry (the surfaces at the seam) or descriptor (the paper's whole-cell "
+                  "descriptor sets)")
+      ->check(CLI::IsMember(seam_energy_names()))
+      ->capture_default_str();
+  cmd->add_option("--seam-tolerance", args->seam_tolerance,
+                  "warn about seams mismatching by more than this (model units; 0: 3 x the sample spacing)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_flag("--strict", args->strict,
+                "exit 7 when a seam mismatches by more than the tolerance (the output is still written)");
   cmd->add_option("--max-problem", args->max_problem, "refuse requests with more nodes x labels than this")
       ->capture_default_str();
   cmd->add_option("--dump-mrf", args->dump_mrf,

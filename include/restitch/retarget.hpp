@@ -59,12 +59,28 @@ namespace restitch {
 struct RetargetOptions {
   Neighbourhood neighbourhood = Neighbourhood::n26;   ///< the paper's; n6 as an option
   SetDistance set_distance = SetDistance::hausdorff;  ///< the paper's; mean_nearest as an option
+  /// The pairwise term solved (docs/method.md 2.4, 2.4b): the geometry at the seam (default) or the
+  /// paper's descriptor sets of whole cells. The seams are measured on the geometry either way.
+  SeamEnergy seam_energy = SeamEnergy::geometry;
+  /// A seam whose mismatch (model units) exceeds this is reported in RetargetReport::warnings.
+  /// 0 (default): 3 x the sample spacing (CellSlabs::spacing), see docs/method.md 2.8.
+  double seam_tolerance = 0;
   /// Refuse requests whose nodes x labels exceed this (memory and time grow with it).
   std::size_t max_problem_size = 2'000'000;
   /// Also report, for every output face, the index of the label of the cell it lies in (for display).
   bool face_labels = false;
   /// What stays put along each world axis x, y, z (restitch/placement.hpp): by default the model's origin.
   Pivots pivot{{Pivot::origin, Pivot::origin, Pivot::origin}};
+};
+
+/// One seam of an output: two neighbouring output cells (sharing a face) with different labels, or an
+/// output cell on a resized end whose label differs from its anchor (cell_b is then the virtual cell
+/// just outside the output grid, label_b the anchor; docs/method.md 2.3).
+struct SeamReport {
+  Eigen::Array3i cell_a = Eigen::Array3i::Zero(), cell_b = Eigen::Array3i::Zero();    ///< output cells
+  Eigen::Array3i label_a = Eigen::Array3i::Zero(), label_b = Eigen::Array3i::Zero();  ///< their shifts d
+  double mismatch = 0;  ///< model units: min of the slab mismatches on either side (docs/method.md 2.8)
+  bool outer = false;   ///< cell_b lies outside the output (an anchored end)
 };
 
 struct RetargetReport {
@@ -84,6 +100,14 @@ struct RetargetReport {
   bool exact = false;
   Eigen::Vector3d scale = Eigen::Vector3d::Ones();
   Eigen::Vector3d size_nearest = Eigen::Vector3d::Zero();
+  /// The pairwise term solved, and every seam of the output measured on the geometry (model units).
+  SeamEnergy seam_energy = SeamEnergy::geometry;
+  std::vector<SeamReport> seams;
+  double max_seam_mismatch = 0;
+  double seam_tolerance = 0;  ///< as used (RetargetOptions::seam_tolerance, or its default)
+  double sample_spacing = 0;  ///< model units (CellSlabs::spacing)
+  /// Seams over the tolerance, one sentence each ("seam between cells ... mismatches by ..."); empty when fine.
+  std::vector<std::string> warnings;
 };
 
 struct RetargetResult {
@@ -167,6 +191,7 @@ class Retargeter {
                                                  std::to_string(options_.max_problem_size) + ")");
     if (!status_) return;
     cells_ = std::make_unique<CellDescriptors>(analysis, grid_, options_.set_distance);
+    slabs_ = std::make_unique<CellSlabs>(analysis, grid_);
     if constexpr (has_prepared_stitch_v<Stitcher>) status_ = stitcher_.prepare(mesh, grid_, cache_);
     box_in_ = bounding_box(mesh);
     size_in_ = box_in_.size();
@@ -212,7 +237,7 @@ class Retargeter {
 
     if (!progress.report("energy", 0.0)) return error(StatusCode::cancelled, "cancelled");
     auto t = clock::now();
-    SeamMrf problem(*cells_, k, options_.neighbourhood);
+    SeamMrf problem = make_problem(k);
     rep.timings_ms["energy"] = ms_since(t);
     rep.nodes = problem.node_count();
     rep.labels = problem.label_count();
@@ -241,6 +266,9 @@ class Retargeter {
       RESTITCH_TRY(stitcher_.stitch(*mesh_, grid_, rep.cells_out, shift, out.mesh, st));
     }
     rep.timings_ms["stitch"] = ms_since(t);
+    t = clock::now();
+    measure_seams(k, rep.cells_out, shift, rep);
+    rep.timings_ms["seams"] = ms_since(t);
     rep.regions = st.regions;
     rep.triangles_out = out.mesh.triangle_count();
     rep.vertices_out = out.mesh.vertex_count();
@@ -263,8 +291,11 @@ class Retargeter {
     RESTITCH_TRY(status_);
     RetargetReport rep;
     RESTITCH_TRY(plan(steps, rep));
-    return SeamMrf(*cells_, rep.grid_steps, options_.neighbourhood);
+    return make_problem(rep.grid_steps);
   }
+
+  /// The geometric seam measure this Retargeter reports with (and solves with, by default).
+  CellSlabs& slabs() { return *slabs_; }
 
   /// The steps whose result's bounding box is nearest to `target` (model
   /// units; a component of 0 keeps that axis). Searches every achievable step
@@ -372,6 +403,64 @@ class Retargeter {
     return {};
   }
 
+  SeamMrf make_problem(const Eigen::Array3i& k) {
+    return options_.seam_energy == SeamEnergy::geometry ? SeamMrf(*slabs_, k, options_.neighbourhood)
+                                                        : SeamMrf(*cells_, k, options_.neighbourhood);
+  }
+
+  // Every seam of a labelling, measured on the geometry (docs/method.md 2.8): face neighbours with
+  // different labels, and end cells whose label differs from their anchor. The mismatch of a seam
+  // between x (label di) and x' = x + e (label dj) is min(G(x - di, x - dj; e), G(x' - di, x' - dj; -e)):
+  // when either side's slab agrees, the geometry crosses the cut unbroken. An end cell x with label d
+  // and anchor d' (outer seam): G(x - d, x - d'; outward).
+  void measure_seams(const Eigen::Array3i& k, const Eigen::Array3i& cells_out, const std::vector<Eigen::Array3i>& shift,
+                     RetargetReport& rep) {
+    const CellGrid out(cells_out);
+    rep.seam_energy = options_.seam_energy;
+    rep.sample_spacing = slabs_->spacing();
+    rep.seam_tolerance = options_.seam_tolerance > 0 ? options_.seam_tolerance : 3 * slabs_->spacing();
+    auto measure = [&](const Eigen::Array3i& x, const Eigen::Array3i& y, const Eigen::Array3i& di,
+                       const Eigen::Array3i& dj, bool outer) {
+      const Eigen::Array3i e = y - x;
+      SeamReport seam{x, y, di, dj, 0.0, outer};
+      // An end faces nothing in the output, whatever the labels: only its own side counts.
+      seam.mismatch = outer ? slabs_->mismatch(x - di, x - dj, e)
+                            : std::min(slabs_->mismatch(x - di, x - dj, e), slabs_->mismatch(y - di, y - dj, -e));
+      rep.max_seam_mismatch = std::max(rep.max_seam_mismatch, seam.mismatch);
+      rep.seams.push_back(seam);
+    };
+    for (std::int64_t xi = 0; xi < out.size(); ++xi) {
+      const Eigen::Array3i x = out.cell(xi), di = shift[std::size_t(xi)];
+      for (int a = 0; a < 3; ++a) {
+        Eigen::Array3i y = x;
+        y[a] += 1;
+        if (out.inside(y)) {
+          const Eigen::Array3i& dj = shift[std::size_t(out.index(y))];
+          if ((di != dj).any()) measure(x, y, di, dj, false);
+        }
+        if (k[a] == 0) continue;
+        for (int side = 0; side < 2; ++side) {  // anchored ends
+          if (side == 0 ? x[a] != 0 : x[a] != out.dims[a] - 1) continue;
+          Eigen::Array3i anchor = di, outside = x;
+          anchor[a] = side == 0 ? 0 : k[a];
+          outside[a] += side == 0 ? -1 : 1;
+          if ((anchor != di).any()) measure(x, outside, di, anchor, true);
+        }
+      }
+    }
+    for (const SeamReport& seam : rep.seams)
+      if (seam.mismatch > rep.seam_tolerance) rep.warnings.push_back(seam_warning(seam, rep.seam_tolerance));
+  }
+
+  static std::string seam_warning(const SeamReport& s, double tolerance) {
+    auto cell = [](const Eigen::Array3i& c) {
+      return "(" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + ")";
+    };
+    return (s.outer ? "seam between cell " + cell(s.cell_a) + " and the end of the model outside it"
+                    : "seam between cells " + cell(s.cell_a) + " and " + cell(s.cell_b)) +
+           " mismatches by " + format_size(s.mismatch) + " model units (tolerance " + format_size(tolerance) + ")";
+  }
+
   // The label of the output cell each face's centroid lies in.
   std::vector<int> face_labels(const Mesh& m, const CellGrid& out, const std::vector<int>& labelling) const {
     std::vector<int> fl(m.triangle_count(), 0);
@@ -394,6 +483,7 @@ class Retargeter {
   Status status_;
   Lattice grid_;
   std::unique_ptr<CellDescriptors> cells_;
+  std::unique_ptr<CellSlabs> slabs_;
   detail::stitch_cache_t<Stitcher> cache_;  // the stitcher's prepared cache, when it has one
   Eigen::Vector3d size_in_ = Eigen::Vector3d::Zero();
   BoundingBox box_in_;

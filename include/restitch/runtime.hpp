@@ -43,6 +43,12 @@ inline const std::vector<std::string>& label_space_names() {
   return n;
 }
 
+/// The seam energies by name (RetargetOptions::seam_energy; the default first).
+inline const std::vector<std::string>& seam_energy_names() {
+  static const std::vector<std::string> n{"geometry", "descriptor"};
+  return n;
+}
+
 namespace detail {
 inline Status unknown_name(const char* what, const std::string& name, const std::vector<std::string>& known) {
   std::string list;
@@ -86,6 +92,13 @@ inline Result<Analysis> analyze_named(const Mesh& mesh, const std::string& descr
 /// promote_offsets (analyze.hpp) for an analysis made by analyze_named, whose options are the defaults.
 inline Status promote_offsets_named(const Mesh& mesh, const std::vector<Eigen::Vector3d>& offsets, Analysis& a) {
   return promote_offsets(mesh, AnalysisOptions<>{}, offsets, a);
+}
+
+/// The seam energy named `name` ("geometry" or "descriptor"), or invalid_argument listing them.
+inline Result<SeamEnergy> seam_energy_named(const std::string& name) {
+  SeamEnergy e = SeamEnergy::geometry;
+  if (!parse_seam_energy(name, e)) return detail::unknown_name("seam energy", name, seam_energy_names());
+  return e;
 }
 
 /// A Retargeter whose label space is chosen at run time.

@@ -29,6 +29,10 @@
 //           D(x - di, x - dj) + D(x' - di, x' - dj), where D is the cell-set
 //           distance, 0 for two empty cells, `empty_mismatch` for one empty
 //           and one not; a cell outside the input grid counts as empty.
+//           Built on CellSlabs instead (restitch/energy/seam_geometry.hpp, the
+//           default of RetargetOptions::seam_energy), D(a, b) becomes the slab
+//           mismatch G(a, b; e) toward the neighbour e across the seam (model
+//           units), with CellSlabs' empty_mismatch and forbidden = 1000 x it.
 // Constants: descriptor distances are at most 2 * r, r the largest descriptor
 // norm (2 for unit-norm SHOT); empty_mismatch = 1000 * 2r dominates any seam,
 // forbidden = 1000 * empty_mismatch dominates any sum of seams; both are
@@ -47,6 +51,7 @@
 #include <vector>
 
 #include "restitch/analysis.hpp"
+#include "restitch/energy/seam_geometry.hpp"
 #include "restitch/lattice/grid.hpp"
 #include "restitch/lattice/lattice.hpp"
 
@@ -129,12 +134,23 @@ class SeamMrf {
       : in_(cells.grid()), out_(cells.grid().dims + k), k_(k), span_(2 * k.abs() + 1) {
     empty_mismatch_ = 1000.0 * cells.max_distance();
     forbidden_ = 1000.0 * empty_mismatch_;
-    // Labels: every shift with d_a between 0 and k_a, x fastest.
-    for (int w = 0; w <= std::abs(k[2]); ++w)
-      for (int v = 0; v <= std::abs(k[1]); ++v)
-        for (int u = 0; u <= std::abs(k[0]); ++u)
-          labels_.push_back(Eigen::Array3i(sign(k[0]) * u, sign(k[1]) * v, sign(k[2]) * w));
+    build_labels();
     build_table(cells);
+    build_edges(nb);
+    build_unary();
+  }
+
+  /// The same problem with the geometric pairwise term (seam_geometry.hpp): the descriptor distance D is
+  /// replaced by G(x - di, x - dj; e), the slab mismatch toward the neighbour e across the seam. Terms
+  /// are computed on first use (the solver asks for few of them) and kept in `slabs`.
+  SeamMrf(CellSlabs& slabs, const Eigen::Array3i& k, Neighbourhood nb)
+      : in_(slabs.grid()), out_(slabs.grid().dims + k), k_(k), span_(2 * k.abs() + 1), slabs_(&slabs) {
+    empty_mismatch_ = slabs.empty_mismatch();
+    forbidden_ = 1000.0 * empty_mismatch_;
+    build_labels();
+    dirs_ = 27;
+    const std::size_t entries = std::size_t(in_.size()) * dirs_ * std::size_t(span_.size());
+    if (entries <= dense_table_limit) table_.assign(entries, std::nan(""));
     build_edges(nb);
     build_unary();
   }
@@ -148,7 +164,8 @@ class SeamMrf {
   double pairwise(int e, int li, int lj) const {
     if (li == lj) return 0.0;
     const auto [x, y] = edges_[std::size_t(e)];
-    return seam(out_.cell(x), labels_[li], labels_[lj]) + seam(out_.cell(y), labels_[li], labels_[lj]);
+    const Eigen::Array3i cx = out_.cell(x), cy = out_.cell(y);
+    return seam(cx, cy - cx, labels_[li], labels_[lj]) + seam(cy, cx - cy, labels_[li], labels_[lj]);
   }
 
   /// The output cells (the nodes, in linear order).
@@ -161,6 +178,9 @@ class SeamMrf {
     return -1;
   }
   double forbidden() const { return forbidden_; }
+  double empty_mismatch() const { return empty_mismatch_; }
+  /// Which pairwise term this problem uses.
+  SeamEnergy energy() const { return slabs_ ? SeamEnergy::geometry : SeamEnergy::descriptor; }
 
   /// A starting labelling: the input's own layout stretched, i.e. each cell
   /// copies the nearest end (label 0 in the low part, k in the high part).
@@ -177,6 +197,16 @@ class SeamMrf {
 
  private:
   static int sign(int v) { return v < 0 ? -1 : 1; }
+  // Geometric terms kept in a dense per-request table up to this many entries, else in a hash map.
+  static constexpr std::size_t dense_table_limit = std::size_t(1) << 22;
+
+  // Labels: every shift with d_a between 0 and k_a, x fastest.
+  void build_labels() {
+    for (int w = 0; w <= std::abs(k_[2]); ++w)
+      for (int v = 0; v <= std::abs(k_[1]); ++v)
+        for (int u = 0; u <= std::abs(k_[0]); ++u)
+          labels_.push_back(Eigen::Array3i(sign(k_[0]) * u, sign(k_[1]) * v, sign(k_[2]) * w));
+  }
 
   // Distances between input cells a and a + delta, |delta_a| <= |k_a|, for every input cell.
   void build_table(CellDescriptors& cells) {
@@ -220,7 +250,7 @@ class SeamMrf {
             anchor[a] = side == 0 ? 0 : k_[a];
             Eigen::Array3i outside = cx;
             outside[a] += side == 0 ? -1 : 1;
-            u += seam(cx, labels_[l], anchor) + seam(outside, labels_[l], anchor);
+            u += seam(cx, outside - cx, labels_[l], anchor) + seam(outside, cx - outside, labels_[l], anchor);
           }
         }
         unary_[std::size_t(x) * m + l] = u;
@@ -235,20 +265,44 @@ class SeamMrf {
     if (ea != eb) return empty_mismatch_;
     return cells.distance(in_.index(a), in_.index(b));
   }
-  // D(x - di, x - dj), from the per-request table.
-  double seam(const Eigen::Array3i& x, const Eigen::Array3i& di, const Eigen::Array3i& dj) const {
+  // D(x - di, x - dj) (descriptor) or G(x - di, x - dj; o) (geometry), o the direction from x to the
+  // neighbour across the seam, from the per-request table.
+  double seam(const Eigen::Array3i& x, const Eigen::Array3i& o, const Eigen::Array3i& di,
+              const Eigen::Array3i& dj) const {
     const Eigen::Array3i a = x - di, b = x - dj;
-    if (in_.inside(a)) return table_[std::size_t(in_.index(a)) * span_.size() + span_.index(b - a + k_.abs())];
-    if (in_.inside(b)) return table_[std::size_t(in_.index(b)) * span_.size() + span_.index(a - b + k_.abs())];
-    return 0.0;  // both outside: both empty
+    Eigen::Array3i c, delta;
+    if (in_.inside(a))
+      c = a, delta = b - a;
+    else if (in_.inside(b))
+      c = b, delta = a - b;
+    else
+      return 0.0;  // both outside: both empty
+    const std::size_t t = slabs_ ? CellSlabs::direction(o) : 0;
+    const std::size_t entry =
+        (std::size_t(in_.index(c)) * dirs_ + t) * std::size_t(span_.size()) + std::size_t(span_.index(delta + k_.abs()));
+    if (!slabs_) return table_[entry];
+    if (!table_.empty()) {
+      double& v = table_[entry];
+      if (std::isnan(v)) v = slabs_->mismatch(c, c + delta, o);
+      return v;
+    }
+    auto it = sparse_.find(entry);
+    if (it != sparse_.end()) return it->second;
+    const double v = slabs_->mismatch(c, c + delta, o);
+    sparse_.emplace(entry, v);
+    return v;
   }
 
   CellGrid in_, out_;
   Eigen::Array3i k_;
   CellGrid span_;  // label differences: component a in [-|k_a|, |k_a|], stored shifted by |k_a|
   double empty_mismatch_ = 2000, forbidden_ = 2e6;
+  CellSlabs* slabs_ = nullptr;  // the geometric term's source, or null for the descriptor term
+  std::size_t dirs_ = 1;        // table entries per cell and label difference: 1, or 27 directions (geometry)
   std::vector<Eigen::Array3i> labels_;
-  std::vector<double> table_, unary_;
+  mutable std::vector<double> table_;  // geometry: filled on first use (NaN until then)
+  std::vector<double> unary_;
+  mutable std::unordered_map<std::size_t, double> sparse_;  // geometry, when the dense table would be too big
   std::vector<std::pair<int, int>> edges_;
 };
 

@@ -22,7 +22,10 @@
 // retarget_json: steps, grid_steps, nodes, labels, edges, cycles, energy,
 //   non_metric, cells_in, cells_out, size_in, size_out, timings_ms,
 //   output {vertices, triangles}, pivot {modes, point, translation, low_end_cells},
-//   exact {applied, scale, size_nearest}.
+//   exact {applied, scale, size_nearest}, seam_energy ("geometry" | "descriptor"),
+//   sample_spacing, seam_tolerance, max_seam_mismatch (model units), seams [{cells [[i,j,k] x2]
+//   (output cells; the second lies outside for an anchored end), labels [[du,dv,dw] x2], mismatch
+//   (model units), outer}] (docs/method.md 2.8), warnings [string] (seams over the tolerance; empty when fine).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -106,6 +109,17 @@ inline nlohmann::json retarget_json(const RetargetReport& r) {
                 {"translation", detail::vec3(p.translation)},
                 {"low_end_cells", detail::arr3(p.low_cells)}};
   j["exact"] = {{"applied", r.exact}, {"scale", detail::vec3(r.scale)}, {"size_nearest", detail::vec3(r.size_nearest)}};
+  j["seam_energy"] = seam_energy_name(r.seam_energy);
+  j["sample_spacing"] = r.sample_spacing;
+  j["seam_tolerance"] = r.seam_tolerance;
+  j["max_seam_mismatch"] = r.max_seam_mismatch;
+  j["seams"] = nlohmann::json::array();
+  for (const SeamReport& s : r.seams)
+    j["seams"].push_back({{"cells", {detail::arr3(s.cell_a), detail::arr3(s.cell_b)}},
+                          {"labels", {detail::arr3(s.label_a), detail::arr3(s.label_b)}},
+                          {"mismatch", s.mismatch},
+                          {"outer", s.outer}});
+  j["warnings"] = r.warnings;
   return j;
 }
 

@@ -1,0 +1,269 @@
+// restitch/energy/seam_geometry.hpp - a seam cost measured on the geometry at the seam (docs/method.md 2.4b).
+//
+// CellSlabs compares the input surface around one face (or edge, or corner)
+// of two input cells, translated onto each other: the "slab" of cell c toward
+// direction e (each component -1, 0 or 1, not all 0) is the part of c within
+// `half_width` (model units) of its face on every axis where e is non-zero.
+// Points are the analysis' dense Poisson-disk samples (Analysis::dense), taken
+// relative to their cell's corner, so two cells that hold the same geometry
+// hold the same relative points up to sampling.
+//
+//   mismatch(c1, c2, e) = max( h(Q1 -> R2), h(Q2 -> R1) )        model units
+//
+// where Qi are the samples in the slab of ci toward e (at most `max_queries`,
+// an even stride of them), Ri the samples around that slab (the slab widened
+// by `half_width` on every side, across the face too), and h(Q -> R) the
+// largest distance from a point of Q to its nearest point of R. Two slabs of
+// the same geometry cost at most about one sample spacing (Poisson-disk
+// samples of a surface lie within a spacing of each other), a slab against a
+// copy of itself shifted by s costs s (when s is below the slab's width).
+// Cells are clamped as in the stitcher: geometry outside the input grid
+// belongs to the end cell, so an end cell's slab toward the outside includes
+// its overhang. A cell outside the input grid is empty. Both slabs empty: 0;
+// one slab with samples and nothing around the other (R empty): the constant
+// `empty_mismatch` = 1000 x the cell diagonal, larger than any distance
+// between two points of two neighbouring cells, so a missing surface outweighs
+// any misplaced one.
+//
+// Half-width: 2 x the sample spacing s (the median nearest-neighbour distance
+// of the dense samples, model units). A slab must hold at least one layer of
+// samples of a surface crossing the face at a slant (width >= s) and its
+// neighbourhood must contain the counterpart of every sample (a further s):
+// narrower misses surfaces, wider compares geometry that the seam does not
+// touch. It is capped at half a cell.
+//
+// Caching: mismatches are computed once per (cell pair, direction) for the
+// life of the object; slabs are gathered on first use. Cost of a new pair:
+// O(max_queries x |R|) flops (|R| the samples around a slab).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <nanoflann.hpp>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "restitch/analysis.hpp"
+#include "restitch/lattice/grid.hpp"
+#include "restitch/lattice/lattice.hpp"
+
+namespace restitch {
+
+/// Which pairwise term the labelling problem uses (docs/method.md 2.4, 2.4b).
+enum class SeamEnergy {
+  geometry,   ///< the surfaces at the seam compared (CellSlabs), model units; the default
+  descriptor  ///< the paper's: descriptor sets of whole cells compared (CellDescriptors)
+};
+
+inline const char* seam_energy_name(SeamEnergy e) { return e == SeamEnergy::geometry ? "geometry" : "descriptor"; }
+/// "geometry" or "descriptor"; false for anything else (`out` untouched).
+inline bool parse_seam_energy(const std::string& name, SeamEnergy& out) {
+  if (name == "geometry") return out = SeamEnergy::geometry, true;
+  if (name == "descriptor") return out = SeamEnergy::descriptor, true;
+  return false;
+}
+
+namespace detail {
+/// nanoflann adaptor over the rows of a #P by 3 float matrix (not copied).
+struct DenseRowsAdaptor {
+  const MatrixX3f* points;
+  std::size_t kdtree_get_point_count() const { return std::size_t(points->rows()); }
+  float kdtree_get_pt(std::size_t i, std::size_t d) const { return (*points)(Eigen::Index(i), Eigen::Index(d)); }
+  template <class BBox>
+  bool kdtree_get_bbox(BBox&) const {
+    return false;
+  }
+};
+
+/// The median distance from a point of `P` to its nearest other point (an even stride of at most 4000
+/// points asks); 0 with fewer than two points. Cost O(n log n).
+inline double median_nearest_distance(const MatrixX3f& P) {
+  const Eigen::Index n = P.rows();
+  if (n < 2) return 0.0;
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, DenseRowsAdaptor>,
+                                                   DenseRowsAdaptor, 3, std::uint32_t>;
+  DenseRowsAdaptor adaptor{&P};
+  Tree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+  const Eigen::Index m = std::min<Eigen::Index>(n, 4000);
+  std::vector<double> d;
+  d.reserve(std::size_t(m));
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const Eigen::Index i = k * n / m;
+    const float q[3] = {P(i, 0), P(i, 1), P(i, 2)};
+    std::uint32_t idx[2];
+    float d2[2];
+    const std::size_t found = tree.knnSearch(q, 2, idx, d2);
+    if (found == 2) d.push_back(std::sqrt(double(d2[1])));
+  }
+  if (d.empty()) return 0.0;
+  std::nth_element(d.begin(), d.begin() + std::ptrdiff_t(d.size() / 2), d.end());
+  return d[d.size() / 2];
+}
+}  // namespace detail
+
+/// Dense samples grouped by cell, with cached slab mismatches (see the file comment).
+class CellSlabs {
+ public:
+  /// Query points per slab at most (an even stride of them): bounds the cost of a new pair.
+  static constexpr std::size_t max_queries = 256;
+
+  CellSlabs() = default;
+
+  /// Groups the dense samples of `analysis` by the cells of `grid` (model units). `spacing` (model units):
+  /// the sample spacing; 0 estimates it (median nearest-neighbour distance of the samples).
+  CellSlabs(const Analysis& analysis, const Lattice& grid, double spacing = 0)
+      : grid_(grid.cells), A_(grid.A), origin_(grid.origin) {
+    Ainv_ = A_.inverse();
+    const MatrixX3f& P = analysis.dense.points;
+    if (!(spacing > 0))
+      spacing = detail::median_nearest_distance(P) / (analysis.normalization.scale > 0 ? analysis.normalization.scale : 1);
+    double diagonal = 0;
+    for (int a = 0; a < 3; ++a) diagonal += A_.col(a).norm();
+    if (!(spacing > 0)) spacing = 1e-3 * diagonal;
+    spacing_ = spacing;
+    half_width_ = 2 * spacing_;
+    empty_mismatch_ = 1000.0 * diagonal;
+    for (int a = 0; a < 3; ++a) {
+      const double per_unit = Ainv_.row(a).norm();  // canonical units per model unit across the planes of a
+      width_[a] = std::min(0.5, half_width_ * per_unit);
+      margin_[a] = std::min(1.0, half_width_ * per_unit);
+    }
+    members_.assign(std::size_t(grid_.size()), {});
+    points_.resize(std::size_t(P.rows()));
+    canonical_.resize(std::size_t(P.rows()));
+    for (Eigen::Index i = 0; i < P.rows(); ++i) {
+      const Eigen::Vector3d p = analysis.normalization.to_model(P.row(i).cast<double>().transpose());
+      if (!p.allFinite()) continue;
+      points_[std::size_t(i)] = p;
+      canonical_[std::size_t(i)] = Ainv_ * (p - origin_);
+      members_[std::size_t(grid_.index(grid_.cell_of(canonical_[std::size_t(i)])))].push_back(int(i));
+    }
+    slabs_.assign(std::size_t(grid_.size()) * 27, {});
+  }
+
+  const CellGrid& grid() const { return grid_; }
+  /// The sample spacing and the slab half-width (2 x spacing), model units.
+  double spacing() const { return spacing_; }
+  double half_width() const { return half_width_; }
+  /// The cost of samples in one slab against nothing around the other (model units).
+  double empty_mismatch() const { return empty_mismatch_; }
+  /// Samples in the slab of inside cell c toward e (after the stride cap), and around it.
+  std::size_t queries(const Eigen::Array3i& c, const Eigen::Array3i& e) { return slab(c, e).q.size(); }
+  std::size_t around(const Eigen::Array3i& c, const Eigen::Array3i& e) { return slab(c, e).r.size(); }
+
+  /// The mismatch of input cells c1 and c2 (either may lie outside the grid) around their face, edge or
+  /// corner toward e (model units; cached). Symmetric in c1, c2.
+  double mismatch(const Eigen::Array3i& c1, const Eigen::Array3i& c2, const Eigen::Array3i& e) {
+    if ((c1 == c2).all()) return 0.0;
+    const bool in1 = grid_.inside(c1), in2 = grid_.inside(c2);
+    if (!in1 && !in2) return 0.0;
+    if (!in1 || !in2) return slab(in1 ? c1 : c2, e).q.empty() ? 0.0 : empty_mismatch_;
+    int a = grid_.index(c1), b = grid_.index(c2);
+    if (a > b) std::swap(a, b);
+    const std::uint64_t key = ((std::uint64_t(std::uint32_t(a)) << 32 | std::uint32_t(b)) * 27) + direction(e);
+    auto it = cache_.find(key);
+    if (it != cache_.end()) return it->second;
+    const double d = compare(slab(grid_.cell(a), e), slab(grid_.cell(b), e));
+    cache_.emplace(key, d);
+    return d;
+  }
+  std::size_t cached_pairs() const { return cache_.size(); }
+
+  /// The index 0..26 of a direction (components -1, 0, 1; x fastest).
+  static std::size_t direction(const Eigen::Array3i& e) {
+    return std::size_t((e[0] + 1) + 3 * ((e[1] + 1) + 3 * (e[2] + 1)));
+  }
+
+ private:
+  struct Slab {
+    bool built = false;
+    std::vector<Eigen::Vector3d> q, r;  // relative to the cell's corner origin + A c, model units
+  };
+
+  const Slab& slab(const Eigen::Array3i& c, const Eigen::Array3i& e) {
+    Slab& s = slabs_[std::size_t(grid_.index(c)) * 27 + direction(e)];
+    if (s.built) return s;
+    s.built = true;
+    // Slab interval per axis (relative canonical coordinate), before and after widening; end cells
+    // reach to infinity outward (clamping).
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = e[a] > 0 ? 1 - width_[a] : 0.0;
+      hi[a] = e[a] < 0 ? width_[a] : 1.0;
+      if (c[a] == 0 && lo[a] == 0.0) lo[a] = -INFINITY;
+      if (c[a] == grid_.dims[a] - 1 && hi[a] == 1.0) hi[a] = INFINITY;
+    }
+    const Eigen::Vector3d corner = origin_ + A_ * c.cast<double>().matrix();
+    std::vector<int> in_slab;
+    for (const int i : members_[std::size_t(grid_.index(c))]) {
+      const Eigen::Vector3d u = canonical_[std::size_t(i)] - c.cast<double>().matrix();
+      bool inside = true;
+      for (int a = 0; a < 3; ++a) inside = inside && u[a] >= lo[a] && u[a] < hi[a];
+      if (inside) in_slab.push_back(i);
+    }
+    const std::size_t n = in_slab.size(), m = std::min(n, max_queries);
+    for (std::size_t k = 0; k < m; ++k) s.q.push_back(points_[std::size_t(in_slab[k * n / m])] - corner);
+    // Around: the slab widened by the margin on every side, from the cell and its neighbours.
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const Eigen::Array3i nc = c + Eigen::Array3i(dx, dy, dz);
+          if (!grid_.inside(nc)) continue;
+          for (const int i : members_[std::size_t(grid_.index(nc))]) {
+            const Eigen::Vector3d u = canonical_[std::size_t(i)] - c.cast<double>().matrix();
+            bool near = true;
+            for (int a = 0; a < 3; ++a) near = near && u[a] >= lo[a] - margin_[a] && u[a] < hi[a] + margin_[a];
+            if (near) s.r.push_back(points_[std::size_t(i)] - corner);
+          }
+        }
+    return s;
+  }
+
+  // max over q of the distance to its nearest r.
+  static double directed(const std::vector<Eigen::Vector3d>& Q, const std::vector<Eigen::Vector3d>& R) {
+    double worst = 0;
+    for (const Eigen::Vector3d& q : Q) {
+      double best = INFINITY;
+      for (const Eigen::Vector3d& r : R) {
+        const double d2 = (q - r).squaredNorm();
+        if (d2 < best) {
+          best = d2;
+          if (best <= worst) break;  // cannot raise the maximum any more
+        }
+      }
+      worst = std::max(worst, best);
+    }
+    return std::sqrt(worst);
+  }
+
+  double compare(const Slab& s1, const Slab& s2) const {
+    if (s1.q.empty() && s2.q.empty()) return 0.0;
+    double d = 0;
+    if (!s1.q.empty()) {
+      if (s2.r.empty()) return empty_mismatch_;
+      d = std::max(d, directed(s1.q, s2.r));
+    }
+    if (!s2.q.empty()) {
+      if (s1.r.empty()) return empty_mismatch_;
+      d = std::max(d, directed(s2.q, s1.r));
+    }
+    return d;
+  }
+
+  CellGrid grid_;
+  Eigen::Matrix3d A_ = Eigen::Matrix3d::Identity(), Ainv_ = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
+  double spacing_ = 0, half_width_ = 0, empty_mismatch_ = 1000;
+  double width_[3] = {0.5, 0.5, 0.5}, margin_[3] = {1, 1, 1};
+  std::vector<Eigen::Vector3d> points_, canonical_;
+  std::vector<std::vector<int>> members_;
+  std::vector<Slab> slabs_;
+  std::unordered_map<std::uint64_t, double> cache_;
+};
+
+}  // namespace restitch
