@@ -90,6 +90,7 @@ void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen
   std::printf("  size %.4g x %.4g x %.4g -> %.4g x %.4g x %.4g\n", rep.size_in.x(), rep.size_in.y(), rep.size_in.z(),
               rep.size_out.x(), rep.size_out.y(), rep.size_out.z());
   std::printf("  wrote %s: %zu triangles in, %zu out\n", args.output.c_str(), rep.triangles_in, rep.triangles_out);
+  std::printf("  boundary edges (positions welded): %zu in, %zu out\n", rep.boundary_edges_in, rep.boundary_edges_out);
 }
 
 // `restitch resize`: returns the exit code.
@@ -114,6 +115,7 @@ int run_resize(const ResizeArgs& args) {
   RetargetOptions options;
   options.max_problem_size = args.max_problem;
   options.pivot = *pivots;
+  options.boundary_edges = true;  // the summary and the JSON report print them
   AnyRetargeter r(mesh, *a, args.labels, options);
   if (!r.status()) return fail(r.status());
   Result<Eigen::Array3i> steps = requested_steps(args, *a, r, quiet);
