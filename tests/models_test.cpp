@@ -61,8 +61,9 @@ bool same_repeat(const Eigen::Vector3d& v, const Eigen::Vector3d& e) {
 // edges out <= in (positions welded, restitch/mesh_boundary.hpp). The others, with their measured
 // numbers, are listed in the README's "Known limits" (seams on geometry that does not repeat exactly).
 const char* const kStaysClosed[] = {
-    "blendswap-cc0_pallet.glb",
-    "scopia_japanese_style_screen.glb",
+    "blendswap-cc0_pallet.glb",            // 0 in, 0 out at +2 and -1 (96 before the T-junction repair)
+    "scopia_japanese_style_screen.glb",    // 0 in, 0 out (256 before the repair)
+    "blendswap-cc0_radiator3.glb",         // 403 in (its own open edges), 403 out (419 at +2 before)
 };
 
 bool stays_closed(const char* file) {
