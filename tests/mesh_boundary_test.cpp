@@ -129,8 +129,8 @@ TEST_CASE("boundary edges: a closed box has none, an open one four, whatever the
   box(closed, {0, 0, 0}, {1, 2, 3});
   const Mesh m = closed.mesh();
   CHECK(restitch::boundary_edge_count(m) == 0);
-  // Every face has its own vertices: by index alone every quad's 4 outer edges are open.
-  CHECK(restitch::boundary_edge_count_at(m, 0.0) == 24);
+  // Every triangle has its own vertices: by index alone all 3 edges of each of the 12 triangles are open.
+  CHECK(restitch::boundary_edge_count_at(m, 0.0) == 36);
   Soup open;
   box(open, {0, 0, 0}, {1, 2, 3}, 5);
   CHECK(restitch::boundary_edge_count(open.mesh()) == 4);
