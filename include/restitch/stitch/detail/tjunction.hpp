@@ -9,7 +9,7 @@
 //   1. Boundary edges: an edge whose two corners are seam vertices (cut
 //      vertices, or copies of input vertices on a cell plane) and which exactly
 //      one face uses. Only faces with two seam corners can have one, so only
-//      their edges are sorted.
+//      their edges are counted.
 //   2. T-vertices: the corners of boundary edges (only those: a vertex that
 //      closes nothing on the other side is not a T-vertex). A boundary edge
 //      a -> b is split at every T-vertex v of the same group, other than a, b
@@ -38,7 +38,9 @@
 // then sorted by (parameter, vertex id): the result does not depend on the
 // hash order. Deterministic.
 //
-// Cost: O(s log s) for the s edges of faces with two seam corners, plus
+// Cost: O(#output vertices + s) for the s edges of faces with two seam
+// corners (bucketed by their lower corner; each bucket, a vertex's few
+// edges, sorted), plus
 // O(27 (B + total boundary edge length / h)) = O(54 B) expected cell look-ups
 // for B boundary edges, plus O(k log k) per edge for its k candidates, plus
 // O(#faces) to rebuild the face list when something was split.
@@ -73,31 +75,40 @@ inline std::size_t repair_t_junctions(StitchOutput& o, const Mesh& in, const Cli
     for (int k = 0; k < 3; ++k) c[k] = rep_of[r[k]];
     return c[0] != c[1] && c[1] != c[2] && c[2] != c[0];
   };
-  // 1. Edges of faces with two seam corners: (key, face * 3 + edge), sorted.
-  struct Use {
-    std::uint64_t key;
-    std::uint64_t at;  // face * 3 + edge index
-    bool operator<(const Use& o) const { return key != o.key ? key < o.key : at < o.at; }
-  };
-  std::vector<Use> uses;
-  for (std::size_t f = 0; f < nf; ++f) {
-    std::uint32_t c[3];
-    if (!corners(f, c)) continue;
-    const bool s[3] = {seam(c[0]), seam(c[1]), seam(c[2])};
-    for (int k = 0; k < 3; ++k) {
-      const int n = (k + 1) % 3;
-      if (!s[k] || !s[n]) continue;
-      const std::uint32_t a = std::min(c[k], c[n]), b = std::max(c[k], c[n]);
-      uses.push_back({(std::uint64_t(a) << 32) | b, 3 * std::uint64_t(f) + std::uint64_t(k)});
+  // 1. Edges of faces with two seam corners, bucketed by their lower corner (a counting sort), each
+  //    bucket (a vertex's few edges) sorted by (upper corner, face * 3 + edge); an upper corner that
+  //    occurs once in its bucket is a boundary edge.
+  const std::size_t nv0 = o.vertex_count();
+  auto each_seam_edge = [&](auto&& visit) {
+    for (std::size_t f = 0; f < nf; ++f) {
+      std::uint32_t c[3];
+      if (!corners(f, c)) continue;
+      const bool s[3] = {seam(c[0]), seam(c[1]), seam(c[2])};
+      for (int k = 0; k < 3; ++k) {
+        const int n = (k + 1) % 3;
+        if (s[k] && s[n]) visit(std::min(c[k], c[n]), std::max(c[k], c[n]), 3 * std::uint64_t(f) + std::uint64_t(k));
+      }
     }
+  };
+  std::vector<std::uint32_t> bucket(nv0 + 1, 0);
+  each_seam_edge([&](std::uint32_t a, std::uint32_t, std::uint64_t) { ++bucket[a + 1]; });
+  for (std::size_t v = 0; v < nv0; ++v) bucket[v + 1] += bucket[v];
+  std::vector<std::pair<std::uint32_t, std::uint64_t>> uses(bucket[nv0]);  // (upper corner, face * 3 + edge)
+  {
+    std::vector<std::uint32_t> fill(bucket.begin(), bucket.end() - 1);
+    each_seam_edge([&](std::uint32_t a, std::uint32_t b, std::uint64_t at) { uses[fill[a]++] = {b, at}; });
   }
-  std::sort(uses.begin(), uses.end());
   std::vector<std::uint64_t> open;  // face * 3 + edge, ascending
-  for (std::size_t i = 0; i < uses.size();) {
-    std::size_t j = i + 1;
-    while (j < uses.size() && uses[j].key == uses[i].key) ++j;
-    if (j - i == 1) open.push_back(uses[i].at);
-    i = j;
+  for (std::size_t v = 0; v < nv0; ++v) {
+    auto* b = uses.data() + bucket[v];
+    auto* e = uses.data() + bucket[v + 1];
+    if (e - b > 1) std::sort(b, e);
+    for (auto* i = b; i != e;) {
+      auto* j = i + 1;
+      while (j != e && j->first == i->first) ++j;
+      if (j - i == 1) open.push_back(i->second);
+      i = j;
+    }
   }
   if (open.empty()) return 0;
   std::sort(open.begin(), open.end());
