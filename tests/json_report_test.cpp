@@ -149,6 +149,9 @@ TEST_CASE("retarget_json: keys and values of a hand-made report", "[json]") {
   r.triangles_in = 555;
   r.triangles_out = 777;
   r.vertices_out = 999;
+  r.boundary_edges_counted = true;
+  r.boundary_edges_in = 11;
+  r.boundary_edges_out = 13;
   r.regions = 6;
   r.size_in = {1, 2, 3};
   r.size_out = {1.5, 2, 2.25};
@@ -170,6 +173,8 @@ TEST_CASE("retarget_json: keys and values of a hand-made report", "[json]") {
   CHECK(j["timings_ms"].size() == 4);
   CHECK(j["output"]["vertices"].get<std::size_t>() == 999);
   CHECK(j["output"]["triangles"].get<std::size_t>() == 777);
+  CHECK(j["boundary_edges"]["in"].get<std::size_t>() == 11);
+  CHECK(j["boundary_edges"]["out"].get<std::size_t>() == 13);
   CHECK(json::parse(j.dump()) == j);
 }
 
@@ -198,9 +203,13 @@ TEST_CASE("analysis_json and retarget_json agree with a real analysis and resize
 
   auto steps = restitch::lattice_steps_from_principal(*a, {2});
   REQUIRE(steps.ok());
-  auto out = restitch::retarget(sample->mesh, *a, *steps);
+  restitch::RetargetOptions options;
+  options.boundary_edges = true;
+  auto out = restitch::retarget(sample->mesh, *a, *steps, options);
   REQUIRE(out.ok());
   const json jr = restitch::retarget_json(out->report);
+  // Not counted unless asked: null.
+  CHECK(restitch::retarget_json(restitch::retarget(sample->mesh, *a, *steps)->report)["boundary_edges"].is_null());
   check_arr3(jr["steps"], *steps);
   check_arr3(jr["cells_in"], a->lattice.cells);
   check_arr3(jr["cells_out"], a->lattice.cells + *steps);  // one cell per repeat
@@ -208,6 +217,8 @@ TEST_CASE("analysis_json and retarget_json agree with a real analysis and resize
   CHECK(jr["labels"].get<int>() == 3);
   CHECK(jr["output"]["vertices"].get<std::size_t>() == out->mesh.vertex_count());
   CHECK(jr["output"]["triangles"].get<std::size_t>() == out->mesh.triangle_count());
+  CHECK(jr["boundary_edges"]["in"].get<std::size_t>() == restitch::boundary_edge_count(sample->mesh));
+  CHECK(jr["boundary_edges"]["out"].get<std::size_t>() == restitch::boundary_edge_count(out->mesh));
   check_vec3(jr["size_in"], restitch::bounding_box(sample->mesh).size(), 1e-9);
   check_vec3(jr["size_out"], restitch::bounding_box(out->mesh).size(), 1e-9);
   // Two more pins: the box grows by two pitches along x.

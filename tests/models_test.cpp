@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <fstream>
+#include <string>
 #include <utility>
 
 #include "restitch/io/gltf.hpp"
@@ -58,6 +59,21 @@ bool same_repeat(const Eigen::Vector3d& v, const Eigen::Vector3d& e) {
   return cosine > std::cos(M_PI / 180.0) && std::abs(v.norm() - e.norm()) < 0.01 * e.norm();
 }
 
+// Models whose resizes along their first principal offset (+2 and -1 steps) open no edge: boundary
+// edges out <= in (positions welded, restitch/mesh_boundary.hpp). The others, with their measured
+// numbers, are listed in the README's "Known limits" (seams on geometry that does not repeat exactly).
+const char* const kStaysClosed[] = {
+    "blendswap-cc0_pallet.glb",            // 0 in, 0 out at +2 and -1 (96 before the T-junction repair)
+    "scopia_japanese_style_screen.glb",    // 0 in, 0 out (256 before the repair)
+    "blendswap-cc0_radiator3.glb",         // 403 in (its own open edges), 403 out (419 at +2 before)
+};
+
+bool stays_closed(const char* file) {
+  for (const char* f : kStaysClosed)
+    if (std::string(f) == file) return true;
+  return false;
+}
+
 bool shared_models_present() { return std::ifstream(std::string(RESTITCH_SHARED_MODELS) + "/MANIFEST.tsv").good(); }
 
 // A model of ../shared/models and its analysis (REQUIREs both to succeed).
@@ -85,7 +101,9 @@ TEST_CASE("models: the listed repeats longer than tau are found, and resizing al
     for (const Eigen::Vector3d& v : a->principal_model_units()) found |= same_repeat(v, e.offset);
     CHECK(found);
     // +2 and -1 steps along the first principal offset give a valid, larger and smaller model.
-    Retargeter<> r(*mesh, *a);
+    RetargetOptions options;
+    options.boundary_edges = true;
+    Retargeter<> r(*mesh, *a, options);
     const double length = bounding_box(*mesh).size().dot(a->principal_model_units()[0].normalized().cwiseAbs());
     for (const int k : {2, -1}) {
       auto steps = lattice_steps_from_principal(*a, {k});
@@ -95,6 +113,11 @@ TEST_CASE("models: the listed repeats longer than tau are found, and resizing al
       CHECK(validate(out->mesh).ok());
       const double grown = bounding_box(out->mesh).size().dot(a->principal_model_units()[0].normalized().cwiseAbs());
       CHECK((k > 0 ? grown > length : grown < length));
+      CHECK(out->report.boundary_edges_in == boundary_edge_count(*mesh));
+      CHECK(out->report.boundary_edges_out == boundary_edge_count(out->mesh));
+      INFO("steps " << k << ": boundary edges " << out->report.boundary_edges_in << " in, "
+                    << out->report.boundary_edges_out << " out");
+      if (stays_closed(e.file)) CHECK(out->report.boundary_edges_out <= out->report.boundary_edges_in);
     }
   }
 }

@@ -53,7 +53,9 @@ TEST_CASE("retarget: each sample family resized by k steps equals the family gen
           "[retarget][samples]") {
   for (const families::SampleInfo& info : families::catalog()) {
     const Prepared& p = prepared(info.name);
-    Retargeter<> r(p.sample.mesh, p.analysis);
+    RetargetOptions options;
+    options.boundary_edges = true;
+    Retargeter<> r(p.sample.mesh, p.analysis, options);
     REQUIRE(r.status().ok());
     for (std::size_t g = 0; g < p.sample.generators.size(); ++g) {
       INFO(info.name << " generator " << g);
@@ -72,7 +74,53 @@ TEST_CASE("retarget: each sample family resized by k steps equals the family gen
         CHECK(out->report.labels == std::abs(k) + 1);
         CHECK(out->report.nodes == out->report.cells_out.prod());
         CHECK(validate(out->mesh).ok());
+        // No more open edges than the generated model has (the samples' parts touch without sharing
+        // vertices, so they have some): stitching opens nothing.
+        CHECK(out->report.boundary_edges_in == boundary_edge_count(p.sample.mesh));
+        CHECK(out->report.boundary_edges_out == boundary_edge_count(out->mesh));
+        // The facades open more than their generated twins have (2162 against 2113 at +2 along the
+        // columns, the same before the T-junction repair): not T-junctions at the weld tolerance; left
+        // out here and listed in the README's known limits.
+        if (info.name.rfind("facade", 0) != 0)
+          CHECK(out->report.boundary_edges_out <= boundary_edge_count(truth->mesh));
       }
+    }
+  }
+}
+
+// Shrinking to ONE pin is not checked: the result is 3.49 mm long, not the 1-pin model's 3.14 mm, and
+// has 28 open edges, the same before this change (README known limits).
+TEST_CASE("retarget: the closed pin header stays closed, grown or shrunk", "[retarget][samples]") {
+  for (const int pins : {3, 6}) {
+    INFO("pins " << pins);
+    auto s = families::generate("pin_header", {{"pins", pins}, {"closed", 1}});
+    REQUIRE(s.ok());
+    REQUIRE(boundary_edge_count(s->mesh) == 0);
+    // The open variant is not closed: the pins' ends on the body are open squares (4 edges each, 2 per
+    // pin), and its end cap's face meets the last segment with a T-junction (3 + 1 edges, front and back).
+    auto open = families::generate("pin_header", {{"pins", pins}});
+    REQUIRE(open.ok());
+    CHECK(boundary_edge_count(open->mesh) == std::size_t(8 * pins + 8));
+    auto a = analyze(s->mesh);
+    REQUIRE(a.ok());
+    const Prepared p{std::move(*s), std::move(*a)};
+    RetargetOptions options;
+    options.boundary_edges = true;
+    Retargeter<> r(p.sample.mesh, p.analysis, options);
+    REQUIRE(r.status().ok());
+    for (const int k : {1, 3, -1}) {
+      INFO("steps " << k);
+      auto out = r.retarget(steps_along(p, 0, k));
+      REQUIRE(out.ok());
+      CHECK(out->report.boundary_edges_in == 0);
+      CHECK(out->report.boundary_edges_out == 0);
+      CHECK(boundary_edge_count(out->mesh) == 0);
+      auto truth = families::generate("pin_header", {{"pins", pins + k}, {"closed", 1}});
+      REQUIRE(truth.ok());
+      const double size = bounding_box(truth->mesh).size().norm();
+      CHECK((bounding_box(truth->mesh).min - bounding_box(out->mesh).min).norm() < 1e-4 * size);
+      CHECK((bounding_box(truth->mesh).max - bounding_box(out->mesh).max).norm() < 1e-4 * size);
+      CHECK(restitch::test::symmetric_surface_distance(out->mesh, truth->mesh, 0.004 * size) < 1e-4 * size);
     }
   }
 }

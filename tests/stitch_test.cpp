@@ -510,7 +510,12 @@ TEST_CASE("stitch: welding joins coincident seam vertices of one group only", "[
   // across the seam (2), the diagonal's cut joins its twin in each region (2).
   CHECK(r1.seam_vertices_welded == 6);
   CHECK(welded.vertex_count() == unwelded.vertex_count() - 6);
-  CHECK(welded.triangle_count() == unwelded.triangle_count());
+  // The long quad's diagonal meets the seam at y = 2.75 on the left (input x = 3) and y = 2.25 on the
+  // right (input x = 1): each side's seam edge has the other's cut point inside it (T-junctions),
+  // so each is split once and the surface closes: two more triangles, no more vertices (the new
+  // corners weld to the T-vertices: constant attributes, one normal).
+  CHECK(r1.t_junction_edges_split == 2);
+  CHECK(welded.triangle_count() == unwelded.triangle_count() + 2);
   // Distinct UVs across the seam (a texture seam): the strip's seam vertices
   // (x = 3 is u = 0.9 one side, 0.3 the other) and the long quad's stay apart;
   // only the diagonal twins within each region join.

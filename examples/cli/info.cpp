@@ -3,6 +3,7 @@
 
 #include "cli.hpp"
 #include "restitch/io/gltf.hpp"
+#include "restitch/mesh_boundary.hpp"
 
 namespace restitch::cli {
 
@@ -13,7 +14,8 @@ void register_info(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
       "info",
-      "Print meshes, primitives, materials, textures, vertices, triangles, bounding box and warnings of a glTF model");
+      "Print meshes, primitives, materials, textures, vertices, triangles, boundary edges, bounding box and warnings "
+      "of a glTF model");
   cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
   cmd->add_option("--json", args->json, "also write the figures as JSON to FILE, or - for standard output");
   cmd->callback([args, exit_code] {
@@ -37,6 +39,8 @@ void register_info(CLI::App& app, int* exit_code) {
     j["images"] = report.images;
     j["vertices"] = mesh->vertex_count();
     j["triangles"] = mesh->triangle_count();
+    const std::size_t open_edges = boundary_edge_count(*mesh);
+    j["boundary_edges"] = open_edges;
     j["bbox_min"] = {box.min.x(), box.min.y(), box.min.z()};
     j["bbox_max"] = {box.max.x(), box.max.y(), box.max.z()};
     j["bbox_size"] = {box.size().x(), box.size().y(), box.size().z()};
@@ -47,6 +51,7 @@ void register_info(CLI::App& app, int* exit_code) {
                   report.primitives, mesh->groups.size());
       std::printf("  materials %zu, textures %zu, images %zu\n", report.materials, report.textures, report.images);
       std::printf("  vertices %zu, triangles %zu\n", mesh->vertex_count(), mesh->triangle_count());
+      std::printf("  boundary edges (positions welded) %zu\n", open_edges);
       std::printf("  bounding box min (%g, %g, %g) max (%g, %g, %g) size %g x %g x %g\n", box.min.x(), box.min.y(),
                   box.min.z(), box.max.x(), box.max.y(), box.max.z(), box.size().x(), box.size().y(), box.size().z());
       std::printf("  warnings: %s\n", report.warnings.empty() ? "none" : "");

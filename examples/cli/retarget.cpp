@@ -99,6 +99,7 @@ void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen
     std::printf(" between cells (%d,%d,%d) and (%d,%d,%d)%s", worst->cell_a[0], worst->cell_a[1], worst->cell_a[2],
                 worst->cell_b[0], worst->cell_b[1], worst->cell_b[2], worst->outer ? " (the end)" : "");
   std::printf("\n  wrote %s: %zu triangles in, %zu out\n", args.output.c_str(), rep.triangles_in, rep.triangles_out);
+  std::printf("  boundary edges (positions welded): %zu in, %zu out\n", rep.boundary_edges_in, rep.boundary_edges_out);
 }
 
 // `restitch resize`: returns the exit code.
@@ -125,6 +126,7 @@ int run_resize(const ResizeArgs& args) {
   options.pivot = *pivots;
   options.seam_tolerance = args.seam_tolerance;
   if (!parse_seam_energy(args.seam_energy, options.seam_energy)) return exit_usage;  // CLI11 checked it
+  options.boundary_edges = true;  // the summary and the JSON report print them
   AnyRetargeter r(mesh, *a, args.labels, options);
   if (!r.status()) return fail(r.status());
   Result<Eigen::Array3i> steps = requested_steps(args, *a, r, quiet);

@@ -41,6 +41,7 @@
 #include "restitch/matcher/brute_force.hpp"
 #include "restitch/matcher/reduced.hpp"
 #include "restitch/mesh.hpp"
+#include "restitch/mesh_boundary.hpp"
 #include "restitch/offsets/autocorrelation.hpp"
 #include "restitch/placement.hpp"
 #include "restitch/retarget.hpp"

@@ -386,7 +386,11 @@ inline void fence_build(const ParameterValues& P, SampleMeshBuilder& B, SampleMo
 // A body segment is a hexagonal prism (its top edges chamfered, so
 // neighbouring segments form a V notch), z in [-depth/2, depth/2]; the
 // faces between segments are left out, so the body's surface is one piece.
-// A pin is a square post with tapered tips, above and below the body.
+// A pin is a square post with tapered tips, above and below the body. With
+// closed = 1 each pin also gets the square where it meets the body, and the
+// end cap's face is cut so that its edges at x = 0 match the last segment's,
+// so every part (body, pins) is a closed surface and the model has no boundary
+// edges (positions welded: each face has its own vertices).
 
 inline SampleInfo pin_header_info() {
   return {"pin_header",
@@ -402,7 +406,9 @@ inline SampleInfo pin_header_info() {
            {"pin_size", 0.64, 0.2, 2.0, false, "side of a pin's square section (mm)"},
            {"pin_above", 6.0, 0.5, 30.0, false, "length of a pin above the body (mm)"},
            {"pin_below", 3.0, 0.5, 30.0, false, "length of a pin below the body (mm)"},
-           {"detail", 1, 1, 64, true, "tessellation level: edges are cut every 1 mm / detail"}}};
+           {"detail", 1, 1, 64, true, "tessellation level: edges are cut every 1 mm / detail"},
+           {"closed", 0, 0, 1, true,
+            "1: cap the pins where they meet the body, so every part is a closed surface (0 boundary edges)"}}};
 }
 
 inline Status pin_header_check(const ParameterValues& P) {
@@ -430,6 +436,7 @@ inline void pin_header_build(const ParameterValues& P, SampleMeshBuilder& B, Sam
   out.counts = {n};
   out.modules = {n};
   const double tip = std::min(0.3 * P["pin_size"], 0.4 * std::min(above, below));
+  const bool closed = P.count("closed") == 1;  // the pins' ends on the body get caps: each pin a closed box
   for (int bx = -1; bx <= X.n; ++bx) {
     B.set_block(Vec3(X.start(bx) ? 0.0 : (X.end(bx) ? e + X.n * p : e + bx * p), 0, 0), bx);
     B.set_material(plastic);
@@ -441,8 +448,13 @@ inline void pin_header_build(const ParameterValues& P, SampleMeshBuilder& B, Sam
     }
     if (X.end(bx)) {
       // (0,0) (e,0) (e,H) (c,H) (0,H-c): the face at x = 0 touches the last segment and is left out.
-      B.prism_z({{0, 0}, {e, 0}, {e, H}, {c, H}, {0, H - c}}, {{0, 1, 2, 3}, {0, 3, 4, -1}}, -d / 2, d / 2, 0x0fu, true,
-                true);
+      // The open variant's patches cut the end face along (0,0)-(c,H), so its triangle's chamfer edge is
+      // subdivided where the segment's is not (a T-junction: 8 open edges); the closed variant cuts along
+      // (0,H-c)-(e,H), mirroring the start cap, so the edges at x = 0 match the segment's.
+      const std::vector<std::array<int, 4>> patches =
+          closed ? std::vector<std::array<int, 4>>{{0, 1, 2, 4}, {4, 2, 3, -1}}
+                 : std::vector<std::array<int, 4>>{{0, 1, 2, 3}, {0, 3, 4, -1}};
+      B.prism_z({{0, 0}, {e, 0}, {e, H}, {c, H}, {0, H - c}}, patches, -d / 2, d / 2, 0x0fu, true, true);
       continue;
     }
     // Segment: (0,0) (p,0) (p,H-c) (p-c,H) (c,H) (0,H-c); sides 1 (x = p) and 5 (x = 0) are contact faces.
@@ -450,9 +462,9 @@ inline void pin_header_build(const ParameterValues& P, SampleMeshBuilder& B, Sam
               0x1du, true, true);
     B.set_material(gold);
     const double x = p / 2;
-    B.frustum_y(x, 0, H, H + above - tip, a, a, false, false);
+    B.frustum_y(x, 0, H, H + above - tip, a, a, closed, false);
     B.frustum_y(x, 0, H + above - tip, H + above, a, 0.5 * a, false, true);
-    B.frustum_y(x, 0, -below + tip, 0, a, a, false, false);
+    B.frustum_y(x, 0, -below + tip, 0, a, a, false, closed);
     B.frustum_y(x, 0, -below, -below + tip, 0.5 * a, a, true, false);
   }
 }

@@ -21,7 +21,9 @@
 //   descriptor, matcher, detector (the offset detector's name), timings_ms {stage: ms}.
 // retarget_json: steps, grid_steps, nodes, labels, edges, cycles, energy,
 //   non_metric, cells_in, cells_out, size_in, size_out, timings_ms,
-//   output {vertices, triangles}, pivot {modes, point, translation, low_end_cells},
+//   output {vertices, triangles}, boundary_edges {in, out} (open edges with
+//   positions welded, restitch/mesh_boundary.hpp; null unless
+//   RetargetOptions::boundary_edges), pivot {modes, point, translation, low_end_cells},
 //   exact {applied, scale, size_nearest}, seam_energy ("geometry" | "descriptor"),
 //   sample_spacing, seam_tolerance, max_seam_mismatch (model units), seams [{cells [[i,j,k] x2]
 //   (output cells; the second lies outside for an anchored end), labels [[du,dv,dw] x2], mismatch
@@ -103,6 +105,9 @@ inline nlohmann::json retarget_json(const RetargetReport& r) {
   j["size_out"] = detail::vec3(r.size_out);
   j["timings_ms"] = r.timings_ms;
   j["output"] = {{"vertices", r.vertices_out}, {"triangles", r.triangles_out}};
+  j["boundary_edges"] = r.boundary_edges_counted
+                           ? nlohmann::json{{"in", r.boundary_edges_in}, {"out", r.boundary_edges_out}}
+                           : nlohmann::json(nullptr);
   const Placement& p = r.placement;
   j["pivot"] = {{"modes", {pivot_name(p.modes[0]), pivot_name(p.modes[1]), pivot_name(p.modes[2])}},
                 {"point", detail::vec3(p.pivot)},

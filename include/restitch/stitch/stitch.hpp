@@ -125,6 +125,7 @@
 #include "restitch/stitch/detail/output.hpp"
 #include "restitch/stitch/detail/region_clip.hpp"
 #include "restitch/stitch/detail/regions.hpp"
+#include "restitch/stitch/detail/tjunction.hpp"
 #include "restitch/stitch/detail/weld.hpp"
 
 namespace restitch {
@@ -135,6 +136,7 @@ struct StitchReport {
   std::size_t triangles_copied = 0;      ///< input triangles copied untouched (one per copy)
   std::size_t triangles_clipped = 0;     ///< input triangle copies that crossed a region boundary and were clipped
   std::size_t seam_vertices_welded = 0;  ///< output vertices removed by welding
+  std::size_t t_junction_edges_split = 0;  ///< boundary seam edges split at T-vertices (stitch/detail/tjunction.hpp)
   double ms = 0;                         ///< wall-clock time of the call (informative only)
 };
 
@@ -147,6 +149,7 @@ class ClipStitcher {
   double weld_tolerance = 1e-6;       ///< relative to the input's bounding-box diagonal
   double attribute_tolerance = 1e-4;  ///< per component, for welding (normals, tangents, UVs, colours)
   bool weld = true;                   ///< weld coincident seam vertices
+  bool repair_t_junctions = true;     ///< after welding, split boundary seam edges at T-vertices (needs weld)
 
   /// Largest grid (input or output) accepted, in cells.
   static constexpr std::int64_t max_cells = std::int64_t(1) << 24;
@@ -239,9 +242,14 @@ class ClipStitcher {
           ++report.triangles_copied;
       }
     }
-    const std::vector<std::uint32_t> rep_of =
-        weld ? detail::weld_map(output, in, cache, layout, float(attribute_tolerance), report.seam_vertices_welded)
+    double tol = cache.tolerance();
+    std::vector<std::uint32_t> rep_of =
+        weld ? detail::weld_map(output, in, cache, layout, float(attribute_tolerance), report.seam_vertices_welded,
+                                &tol)
              : identity(output.vertex_count());
+    if (weld && repair_t_junctions)
+      report.t_junction_edges_split =
+          detail::repair_t_junctions(output, in, cache, layout, float(attribute_tolerance), tol, rep_of);
     output.assemble(rep_of, out);
   }
 

@@ -112,6 +112,47 @@ class StitchOutput {
     fgroup_.push_back(group);
   }
 
+  /// A new cut vertex on the segment from output vertex a to b, at parameter t
+  /// (0 at a), with position p exactly (floats, already translated): the
+  /// attributes are interpolated with the clipping rules (normals and tangent
+  /// xyz re-normalised, tangent w the sign of the interpolated w, UVs and
+  /// colours linear). It takes a's group and region.
+  std::uint32_t interpolated_vertex(std::uint32_t a, std::uint32_t b, double t, const float* p) {
+    double x[4 + 4 + 2 * max_uv_sets + 4];  // channels first, as doubles: the cut store may grow below
+    int n = 0;
+    auto lerp = [&](const float* u, const float* v, int k) {
+      for (int i = 0; i < k; ++i) x[n++] = double(u[i]) + t * (double(v[i]) - double(u[i]));
+    };
+    if (L_.has_n) lerp(normal(a), normal(b), 3);
+    if (L_.has_t) lerp(tangent(a), tangent(b), 4);
+    for (int s = 0; s < L_.uv_sets; ++s) lerp(texcoord(a, s), texcoord(b, s), 2);
+    if (L_.has_c) lerp(color(a), color(b), 4);
+    const std::uint32_t id = std::uint32_t(vsrc_.size());
+    push(std::uint32_t(cut_.size() / std::size_t(L_.cut_stride)) | cut_bit, vgroup_[a], vregion_[a]);
+    for (int i = 0; i < 3; ++i) cut_.push_back(p[i]);
+    int k = 0;
+    if (L_.has_n) push_unit(x + k), k += 3;
+    if (L_.has_t) {
+      push_unit(x + k);
+      cut_.push_back(x[k + 3] >= 0 ? 1.0f : -1.0f);
+      k += 4;
+    }
+    for (int i = 0; i < 2 * L_.uv_sets; ++i) cut_.push_back(float(x[k++]));
+    if (L_.has_c)
+      for (int i = 0; i < 4; ++i) cut_.push_back(float(x[k++]));
+    return id;
+  }
+
+  // Faces as built: 3 corners each (output vertex ids, not yet welded), and their groups.
+  std::size_t face_count() const { return fgroup_.size(); }
+  const std::uint32_t* face(std::size_t f) const { return &faces_[3 * f]; }
+  std::uint32_t face_group(std::size_t f) const { return fgroup_[f]; }
+  /// Replaces every face (the T-junction repair's rebuilt list, same layout).
+  void replace_faces(std::vector<std::uint32_t>&& faces, std::vector<std::uint32_t>&& groups) {
+    faces_ = std::move(faces);
+    fgroup_ = std::move(groups);
+  }
+
   // Values of output vertex i: position (translated) and attribute channels.
   std::size_t vertex_count() const { return vsrc_.size(); }
   std::int32_t region(std::uint32_t i) const { return vregion_[i]; }

@@ -56,9 +56,11 @@ inline bool weld_compatible(const StitchOutput& o, const Mesh& in, const VertexL
 }
 
 /// The representative of every output vertex after welding (itself when not
-/// welded); `welded` counts the vertices that were merged away.
+/// welded); `welded` counts the vertices that were merged away; the tolerance
+/// used goes to `tolerance_used` when given.
 inline std::vector<std::uint32_t> weld_map(const StitchOutput& o, const Mesh& in, const ClipStitchCache& cache,
-                                           const VertexLayout& L, float attribute_tolerance, std::size_t& welded) {
+                                           const VertexLayout& L, float attribute_tolerance, std::size_t& welded,
+                                           double* tolerance_used = nullptr) {
   const std::size_t nv = o.vertex_count();
   std::vector<std::uint32_t> rep_of(nv);
   for (std::size_t i = 0; i < nv; ++i) rep_of[i] = std::uint32_t(i);
@@ -74,8 +76,9 @@ inline std::vector<std::uint32_t> weld_map(const StitchOutput& o, const Mesh& in
       ids.push_back(i);
       pos.push_back(p);
     }
-  if (ids.size() < 2) return rep_of;
   const double tol = std::max(cache.tolerance(), 8.0 * double(FLT_EPSILON) * max_abs);
+  if (tolerance_used) *tolerance_used = tol;
+  if (ids.size() < 2) return rep_of;
   const double tol2 = tol * tol, h = 2.0 * tol;
   CellChains grid(ids.size());
   const auto cell_of = [h](const std::array<float, 3>& p) {
