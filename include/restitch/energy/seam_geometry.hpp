@@ -48,6 +48,7 @@
 #include <vector>
 
 #include "restitch/analysis.hpp"
+#include "restitch/detail/point_tree.hpp"
 #include "restitch/lattice/grid.hpp"
 #include "restitch/lattice/lattice.hpp"
 
@@ -68,25 +69,14 @@ inline bool parse_seam_energy(const std::string& name, SeamEnergy& out) {
 }
 
 namespace detail {
-/// nanoflann adaptor over the rows of a #P by 3 float matrix (not copied).
-struct DenseRowsAdaptor {
-  const MatrixX3f* points;
-  std::size_t kdtree_get_point_count() const { return std::size_t(points->rows()); }
-  float kdtree_get_pt(std::size_t i, std::size_t d) const { return (*points)(Eigen::Index(i), Eigen::Index(d)); }
-  template <class BBox>
-  bool kdtree_get_bbox(BBox&) const {
-    return false;
-  }
-};
 
 /// The median distance from a point of `P` to its nearest other point (an even stride of at most 4000
 /// points asks); 0 with fewer than two points. Cost O(n log n).
 inline double median_nearest_distance(const MatrixX3f& P) {
   const Eigen::Index n = P.rows();
   if (n < 2) return 0.0;
-  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, DenseRowsAdaptor>,
-                                                   DenseRowsAdaptor, 3, std::uint32_t>;
-  DenseRowsAdaptor adaptor{&P};
+  using Tree = PointSetTree;
+  PointSetAdaptor adaptor{&P};
   Tree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
   const Eigen::Index m = std::min<Eigen::Index>(n, 4000);

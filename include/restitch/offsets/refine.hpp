@@ -62,6 +62,7 @@
 #include <nanoflann.hpp>
 #include <vector>
 
+#include "restitch/detail/point_tree.hpp"
 #include "restitch/descriptor/descriptor.hpp"
 #include "restitch/status.hpp"
 
@@ -91,20 +92,6 @@ struct RefinedOffset {
   bool converged = false;
 };
 
-namespace detail {
-/// nanoflann adaptor over a PointSet's rows, without copying them.
-struct PointSetAdaptor {
-  const MatrixX3f* points;
-  std::size_t kdtree_get_point_count() const { return std::size_t(points->rows()); }
-  float kdtree_get_pt(std::size_t i, std::size_t d) const { return (*points)(Eigen::Index(i), Eigen::Index(d)); }
-  template <class BBox>
-  bool kdtree_get_bbox(BBox&) const {
-    return false;
-  }
-};
-using PointSetTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PointSetAdaptor>,
-                                                         PointSetAdaptor, 3, std::uint32_t>;
-}  // namespace detail
 
 /// A dense point cloud (and optional anchors) with k-d trees, built once and
 /// reused for every offset. Keeps pointers to `cloud` and `anchors`: they
