@@ -25,7 +25,7 @@
 //                                           or three of them for x,y,z ("min,origin,max"); restitch/placement.hpp.
 //                                           report.pivot says which point stayed and the translation.
 //     .retarget(s1, s2, s3, labelSpace, pivot, seamEnergy) -> the same, solved with seamEnergy
-//                                           ("geometry", the default, or "descriptor"; docs/method.md 2.4b),
+//                                           ("descriptor", the default, or "geometry"; docs/method.md 2.4b),
 //                                           plus seam_faces: Uint8Array, 1 for each face (face order) within the
 //                                           slab of a seam whose mismatch passes the tolerance (report.warnings;
 //                                           docs/method.md 2.8), so the page can draw it red.
@@ -212,7 +212,7 @@ class Session {
   }
 
   val retarget_about(int s1, int s2, int s3, const std::string& label_space, const std::string& pivot) {
-    return retarget_with(s1, s2, s3, label_space, pivot, "geometry");
+    return retarget_with(s1, s2, s3, label_space, pivot, "descriptor");
   }
 
   val retarget_with(int s1, int s2, int s3, const std::string& label_space, const std::string& pivot,
@@ -438,7 +438,7 @@ class Session {
   // Refers to *input_ and *analysis_ (kept at stable addresses): reset before either changes.
   std::unique_ptr<AnyRetargeter> retargeter_;
   std::string retargeter_space_;
-  SeamEnergy retargeter_energy_ = SeamEnergy::geometry;
+  SeamEnergy retargeter_energy_ = SeamEnergy::descriptor;
   std::unique_ptr<RetargetResult> result_;
 };
 

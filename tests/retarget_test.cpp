@@ -38,6 +38,16 @@ int axis_of(const Lattice& L, const Eigen::Vector3d& g) {
   return -1;
 }
 
+// `out` equals `truth` in place: bounding boxes, and the symmetric surface distance, within 1e-4 of the
+// diagonal.
+void check_same_model(const Mesh& out, const Mesh& truth) {
+  const BoundingBox bt = bounding_box(truth), bo = bounding_box(out);
+  const double size = bt.size().norm();
+  CHECK((bt.min - bo.min).norm() < 1e-4 * size);
+  CHECK((bt.max - bo.max).norm() < 1e-4 * size);
+  CHECK(restitch::test::symmetric_surface_distance(out, truth, 0.004 * size) < 1e-4 * size);
+}
+
 // Steps of `k` along sample generator `g` (the lattice axis parallel to it).
 Eigen::Array3i steps_along(const Prepared& p, std::size_t g, int k) {
   const int axis = axis_of(p.analysis.lattice, p.sample.generators[g]);
@@ -65,12 +75,7 @@ TEST_CASE("retarget: each sample family resized by k steps equals the family gen
         REQUIRE(out.ok());
         auto truth = families::generate(info.name, {{p.sample.count_parameters[g], p.sample.counts[g] + k}});
         REQUIRE(truth.ok());
-        const BoundingBox bt = bounding_box(truth->mesh), bo = bounding_box(out->mesh);
-        const double size = bt.size().norm();
-        CHECK((bt.min - bo.min).norm() < 1e-4 * size);
-        CHECK((bt.max - bo.max).norm() < 1e-4 * size);
-        const double d = restitch::test::symmetric_surface_distance(out->mesh, truth->mesh, 0.004 * size);
-        CHECK(d < 1e-4 * size);
+        check_same_model(out->mesh, truth->mesh);
         CHECK(out->report.labels == std::abs(k) + 1);
         CHECK(out->report.nodes == out->report.cells_out.prod());
         CHECK(validate(out->mesh).ok());
@@ -88,9 +93,9 @@ TEST_CASE("retarget: each sample family resized by k steps equals the family gen
   }
 }
 
-// Shrinking to ONE pin is not checked: the result is 3.49 mm long, not the 1-pin model's 3.14 mm, and
-// has 28 open edges, the same before this change (README known limits).
-TEST_CASE("retarget: the closed pin header stays closed, grown or shrunk", "[retarget][samples]") {
+// Down to ONE pin too: before end caps that gave 3.49 mm, not the 1-pin model's 3.14 mm, with 28 open
+// edges (one output cell could carry only one end).
+TEST_CASE("retarget: the closed pin header stays closed, grown, shrunk and down to one pin", "[retarget][samples]") {
   for (const int pins : {3, 6}) {
     INFO("pins " << pins);
     auto s = families::generate("pin_header", {{"pins", pins}, {"closed", 1}});
@@ -108,7 +113,7 @@ TEST_CASE("retarget: the closed pin header stays closed, grown or shrunk", "[ret
     options.boundary_edges = true;
     Retargeter<> r(p.sample.mesh, p.analysis, options);
     REQUIRE(r.status().ok());
-    for (const int k : {1, 3, -1}) {
+    for (const int k : {1, 3, -1, 1 - pins}) {  // the last: down to one pin (end caps)
       INFO("steps " << k);
       auto out = r.retarget(steps_along(p, 0, k));
       REQUIRE(out.ok());
@@ -117,10 +122,7 @@ TEST_CASE("retarget: the closed pin header stays closed, grown or shrunk", "[ret
       CHECK(boundary_edge_count(out->mesh) == 0);
       auto truth = families::generate("pin_header", {{"pins", pins + k}, {"closed", 1}});
       REQUIRE(truth.ok());
-      const double size = bounding_box(truth->mesh).size().norm();
-      CHECK((bounding_box(truth->mesh).min - bounding_box(out->mesh).min).norm() < 1e-4 * size);
-      CHECK((bounding_box(truth->mesh).max - bounding_box(out->mesh).max).norm() < 1e-4 * size);
-      CHECK(restitch::test::symmetric_surface_distance(out->mesh, truth->mesh, 0.004 * size) < 1e-4 * size);
+      check_same_model(out->mesh, truth->mesh);
     }
   }
 }
@@ -340,10 +342,10 @@ struct LastLabelSolver {
 };
 }  // namespace
 
-TEST_CASE("retarget: with the geometric seam energy (the default) the sample families at 3, 4 and 5 repeats "
-          "grown by 1 and 3 and shrunk by 1 equal the family generated at that count",
+TEST_CASE("retarget: with either seam energy the sample families at 3, 4 and 5 repeats grown by 1 and 3, "
+          "shrunk by 1 and down to one repeat equal the family generated at that count",
           "[retarget][samples][slow]") {
-  CHECK(RetargetOptions().seam_energy == SeamEnergy::geometry);
+  CHECK(RetargetOptions().seam_energy == SeamEnergy::descriptor);  // the default (README, Seam energy)
   for (const families::SampleInfo& info : families::catalog()) {
     auto base = families::generate(info.name);
     REQUIRE(base.ok());
@@ -358,23 +360,77 @@ TEST_CASE("retarget: with the geometric seam energy (the default) the sample fam
         REQUIRE(a.ok());
         const int axis = axis_of(a->lattice, s->generators[g]);
         REQUIRE(axis >= 0);
-        Retargeter<> r(s->mesh, *a);
-        for (const int k : {1, 3, -1}) {
-          INFO("steps " << k);
-          Eigen::Array3i steps = Eigen::Array3i::Zero();
-          steps[axis] = k;
-          auto out = r.retarget(steps);
-          REQUIRE(out.ok());
-          auto truth = families::generate(info.name, {{s->count_parameters[g], s->counts[g] + k}});
-          REQUIRE(truth.ok());
-          const BoundingBox bt = bounding_box(truth->mesh), bo = bounding_box(out->mesh);
-          const double size = bt.size().norm();
-          CHECK((bt.min - bo.min).norm() < 1e-4 * size);
-          CHECK((bt.max - bo.max).norm() < 1e-4 * size);
-          CHECK(restitch::test::symmetric_surface_distance(out->mesh, truth->mesh, 0.004 * size) < 1e-4 * size);
-          CHECK(out->report.warnings.empty());  // an exact result has no seam over the tolerance
+        for (const SeamEnergy energy : {SeamEnergy::descriptor, SeamEnergy::geometry}) {
+          INFO(seam_energy_name(energy) << " energy");
+          RetargetOptions options;
+          options.seam_energy = energy;
+          Retargeter<> r(s->mesh, *a, options);
+          for (const int k : {1, 3, -1, 1 - n}) {
+            // Down to one: the fence at 4 pickets has its end posts reaching into the next cell, so its end
+            // cells have no periodic part for an end cap to start in (README, known limits).
+            if (k == 1 - n && info.name == "fence" && n == 4) continue;
+            INFO("steps " << k);
+            Eigen::Array3i steps = Eigen::Array3i::Zero();
+            steps[axis] = k;
+            auto out = r.retarget(steps);
+            REQUIRE(out.ok());
+            auto truth = families::generate(info.name, {{s->count_parameters[g], s->counts[g] + k}});
+            REQUIRE(truth.ok());
+            check_same_model(out->mesh, truth->mesh);
+            // An exact result has no seam over the tolerance (but for the fence down to one post bay, whose
+            // rows mix labels, with a seam across the pickets measured at 3.6 spacings; README).
+            if (!(info.name == "fence" && k == 1 - n)) CHECK(out->report.warnings.empty());
+          }
         }
       }
+  }
+}
+
+TEST_CASE("retarget: families at 2 repeats, along the generator promoted when it is only a pair candidate, equal "
+          "the family generated at 1, 3, 4 and 5 repeats",
+          "[retarget][samples][slow]") {
+  // With two input cells every label change compares a source with a cell outside the input (empty), so
+  // every labelling pays one such seam; what decides is that an interior copy of an end cell whose end
+  // lies inside it pays too (SeamMrf::penalise_inner_ends). The fence's 2 pickets are not a candidate
+  // along x (README, known limits): left out.
+  struct Case {
+    const char* family;
+    const char* count;
+    Eigen::Vector3d generator;
+    std::vector<int> steps;
+  };
+  const Case cases[] = {
+      {"bookshelf", "columns", {0.4, 0, 0}, {1, 2, 3, -1}},
+      {"bookshelf", "shelves", {0, 0.35, 0}, {1, 2, 3, -1}},
+      {"facade", "columns", {3, 0, 0}, {1, 2, 3, -1}},
+      {"facade", "floors", {0, 3.2, 0}, {1, 2, 3, -1}},
+      {"facade_sheared", "columns", {3, 0, 0}, {1, 2, 3, -1}},
+      {"pin_header", "pins", {2.54, 0, 0}, {1, 2, 3, -1}},
+  };
+  for (const Case& c : cases) {
+    INFO(c.family << " " << c.count << " at 2");
+    auto s = families::generate(c.family, {{c.count, 2}});
+    REQUIRE(s.ok());
+    auto a = analyze(s->mesh);
+    REQUIRE(a.ok());
+    int axis = axis_of(a->lattice, c.generator);
+    if (axis < 0) {  // a pair: promoted, as `restitch resize --offsets` does
+      REQUIRE(promote_offsets(s->mesh, AnalysisOptions<>{}, {c.generator}, *a).ok());
+      axis = axis_of(a->lattice, c.generator);
+    }
+    REQUIRE(axis >= 0);
+    Retargeter<> r(s->mesh, *a);
+    for (const int k : c.steps) {
+      INFO("steps " << k);
+      Eigen::Array3i steps = Eigen::Array3i::Zero();
+      steps[axis] = k;
+      auto out = r.retarget(steps);
+      REQUIRE(out.ok());
+      auto truth = families::generate(c.family, {{c.count, 2 + k}});
+      REQUIRE(truth.ok());
+      check_same_model(out->mesh, truth->mesh);
+      CHECK(out->report.warnings.empty());
+    }
   }
 }
 

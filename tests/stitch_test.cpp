@@ -429,6 +429,78 @@ TEST_CASE("stitch: an interior copy of an end cell loses its overhang", "[stitch
   for (int i = 0; i <= 4; ++i) CHECK(wall_area(out, i) == Approx(1.0).epsilon(1e-6));
 }
 
+TEST_CASE("stitch: an output one cell long keeps both ends (end caps)", "[stitch]") {
+  const double p = 0.5;
+  const int n = 4;
+  Builder b, left, box0, right;
+  for (int i = 0; i < n; ++i) b.box({(i + 0.2) * p, 0.0, 0.0}, {(i + 0.8) * p, 0.3, 0.2});
+  b.box({-0.3 * p, 0.0, 0.0}, {-0.05 * p, 0.6, 0.4});          // left end, all below x = 0 (overhang)
+  b.box({(n + 0.05) * p, 0.0, 0.0}, {(n + 0.3) * p, 0.5, 0.5});  // right end, all beyond x = n p
+  left.box({-0.3 * p, 0.0, 0.0}, {-0.05 * p, 0.6, 0.4});
+  box0.box({0.2 * p, 0.0, 0.0}, {0.8 * p, 0.3, 0.2});
+  right.box({(n + 0.05) * p, 0.0, 0.0}, {(n + 0.3) * p, 0.5, 0.5});
+  const Mesh in = b.mesh();
+  const Lattice lat = lattice_x(p, n);
+  const auto bi = restitch::bounding_box(in);
+  // Either label: one cell copied with its own end, the other end capped on from the input's end cell.
+  for (const int d : {0, 1 - n}) {
+    INFO("label " << d);
+    Mesh out;
+    StitchReport rep;
+    REQUIRE(ClipStitcher().stitch(in, lat, Eigen::Array3i(1, 1, 1), {Eigen::Array3i(d, 0, 0)}, out, rep));
+    CHECK(rep.end_caps == 1);
+    const auto bo = restitch::bounding_box(out);
+    CHECK(bo.min.x() == Approx(bi.min.x()).margin(1e-6));
+    CHECK(bo.size().x() == Approx(bi.size().x() - (n - 1) * p).epsilon(1e-6));
+    CHECK(bo.size().y() == Approx(bi.size().y()).epsilon(1e-6));
+    CHECK(area(out) == Approx(area(left.mesh()) + area(box0.mesh()) + area(right.mesh())).epsilon(1e-6));
+  }
+  // Anchored at both ends (one cell in, one out): no cap.
+  Mesh out;
+  StitchReport rep;
+  REQUIRE(ClipStitcher().stitch(in, lattice_x(p, 1), Eigen::Array3i(1, 1, 1), {Eigen::Array3i(0, 0, 0)}, out, rep));
+  CHECK(rep.end_caps == 0);
+}
+
+TEST_CASE("stitch: an end cap starts at the lattice's end plane inside an end cell that is not full", "[stitch]") {
+  // Boxes at [i + 0.2, i + 0.4] of each cell and an end panel at [3.6, 3.8] inside the last cell: the model
+  // ends before the grid's last plane, so a shorter model must end 0.2 after the end plane's copy.
+  const int n = 4;
+  Builder b, box0, panel;
+  for (int i = 0; i < n; ++i) b.box({i + 0.2, 0.0, 0.0}, {i + 0.4, 0.3, 0.2});
+  b.box({3.6, 0.0, 0.0}, {3.8, 0.5, 0.5});
+  box0.box({0.2, 0.0, 0.0}, {0.4, 0.3, 0.2});
+  panel.box({0.6, 0.0, 0.0}, {0.8, 0.5, 0.5});
+  const Mesh in = b.mesh();
+  Lattice lat = lattice_x(1.0, n);
+  const std::vector<Eigen::Array3i> label{Eigen::Array3i(0, 0, 0)};
+  Mesh out;
+  StitchReport rep;
+  // At the cell plane (the default) the panel is lost: nothing lies beyond x = 4.
+  REQUIRE(ClipStitcher().stitch(in, lat, Eigen::Array3i(1, 1, 1), label, out, rep));
+  CHECK(area(out) == Approx(area(box0.mesh())).epsilon(1e-6));
+  // From the end plane 3.5 on, the last cell's panel lands at [0.6, 0.8], as in a 1-box model.
+  lat.end_high(0) = 0.5;
+  REQUIRE(ClipStitcher().stitch(in, lat, Eigen::Array3i(1, 1, 1), label, out, rep));
+  CHECK(rep.end_caps == 1);
+  CHECK(area(out) == Approx(area(box0.mesh()) + area(panel.mesh())).epsilon(1e-6));
+  const auto bo = restitch::bounding_box(out);
+  CHECK(bo.min.x() == Approx(0.2).epsilon(1e-6));
+  CHECK(bo.max.x() == Approx(0.8).epsilon(1e-6));
+  // The low end the same way, mirrored: the first cell's start from end_low on.
+  Builder c, last, start;
+  for (int i = 0; i < n; ++i) c.box({i + 0.6, 0.0, 0.0}, {i + 0.8, 0.3, 0.2});
+  c.box({0.2, 0.0, 0.0}, {0.4, 0.5, 0.5});
+  start.box({3.2, 0.0, 0.0}, {3.4, 0.5, 0.5});
+  last.box({3.6, 0.0, 0.0}, {3.8, 0.3, 0.2});
+  Lattice low = lattice_x(1.0, n);
+  low.end_low(0) = 0.5;
+  REQUIRE(ClipStitcher().stitch(c.mesh(), low, Eigen::Array3i(1, 1, 1), {Eigen::Array3i(1 - n, 0, 0)}, out, rep));
+  CHECK(rep.end_caps == 1);
+  CHECK(area(out) == Approx(area(start.mesh()) + area(last.mesh())).epsilon(1e-6));
+  CHECK(restitch::bounding_box(out).min.x() == Approx(0.2).epsilon(1e-6));
+}
+
 TEST_CASE("stitch: a sheared lattice clips along the sheared planes", "[stitch]") {
   Lattice lat;
   lat.A << 1.0, 0.5, 0.0,  //

@@ -324,7 +324,7 @@ async function start() {
   settings.detector = pick(settings.detector, catalog.policies.detectors || ['histogram']);
   settings.labelSpace = pick(settings.labelSpace, catalog.policies.label_spaces);
   settings.pivot = pick(settings.pivot, catalog.policies.pivots || ['origin']);
-  settings.seamEnergy = pick(settings.seamEnergy, catalog.policies.seam_energies || ['geometry']);
+  settings.seamEnergy = pick(settings.seamEnergy, catalog.policies.seam_energies || ['descriptor']);
   panel.build({ samples: catalog.samples.map((s) => s.name), policies: catalog.policies }, handlers);
   if (!catalog.samples.some((s) => s.name === settings.sample)) settings.sample = catalog.samples[0].name;
   panel.refresh();

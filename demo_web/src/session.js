@@ -162,7 +162,7 @@ export class Session {
 
   // Asks for the model resized by `steps` along the principal offsets; see the header for the queue.
   // Resolves with {vertices, triangles, steps, ms} once the view shows it.
-  resize(steps, labelSpace, pivot = 'origin', seamEnergy = 'geometry') {
+  resize(steps, labelSpace, pivot = 'origin', seamEnergy = 'descriptor') {
     const key = `${steps.join(',')}|${labelSpace}|${pivot}|${seamEnergy}`;
     const job = { steps: steps.slice(), labelSpace, pivot, seamEnergy, key, t0: this.#now(), waiters: [] };
     const promise = new Promise((resolve, reject) => job.waiters.push({ resolve, reject }));

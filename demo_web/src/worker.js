@@ -75,7 +75,7 @@ function handle(restitch, msg) {
     case 'retarget': {
       const t0 = performance.now();
       const [a, b, c] = msg.steps;
-      const r = session.retarget(a, b, c, msg.labelSpace, msg.pivot || 'origin', msg.seamEnergy || 'geometry');
+      const r = session.retarget(a, b, c, msg.labelSpace, msg.pivot || 'origin', msg.seamEnergy || 'descriptor');
       if (!r.ok) return fail(msg, r);
       const mesh = session.mesh('result');
       post({ type: 'retargeted', id: msg.id, steps: msg.steps, labelSpace: msg.labelSpace, pivot: msg.pivot, result: r, mesh,

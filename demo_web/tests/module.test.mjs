@@ -68,7 +68,7 @@ test('the module lists its samples and policies', () => {
   assert.deepEqual(p.detectors, ['histogram', 'autocorrelation']);
   assert.deepEqual(p.label_spaces, ['lattice', 'regular']);
   assert.deepEqual(p.pivots, ['origin', 'min', 'center', 'max']);
-  assert.deepEqual(p.seam_energies, ['geometry', 'descriptor']);
+  assert.deepEqual(p.seam_energies, ['descriptor', 'geometry']);
   assert.match(restitch.version(), /^restitch \d+\.\d+\.\d+$/);
 });
 
@@ -259,8 +259,8 @@ test('every seam is reported with its mismatch; the seam energy is chosen by nam
   assert.equal(desc.report.seam_energy, 'descriptor');
   const unknown = shelf.retarget(2, 0, 0, 'lattice', 'origin', 'hausdorff');
   assert.equal(unknown.ok, false);
-  assert.match(unknown.message, /geometry, descriptor/);
-  assert.equal(shelf.retarget(2, 0, 0, 'lattice').report.seam_energy, 'geometry', 'the default');
+  assert.match(unknown.message, /descriptor, geometry/);
+  assert.equal(shelf.retarget(2, 0, 0, 'lattice').report.seam_energy, 'descriptor', 'the default');
 });
 
 test('the regular baseline needs more nodes for the same request', () => {

@@ -197,12 +197,12 @@ test('the seam energy goes to the worker with the steps; another energy is a new
   const first = session.resize([1, 0, 0], 'lattice');
   await client.answer('retarget', retargeted([1, 0, 0], 10));
   await resolved(first);
-  assert.equal(client.sent('retarget')[0].payload.seamEnergy, 'geometry', 'the default seam energy');
-  const desc = session.resize([1, 0, 0], 'lattice', 'origin', 'descriptor');
+  assert.equal(client.sent('retarget')[0].payload.seamEnergy, 'descriptor', 'the default seam energy');
+  const geo = session.resize([1, 0, 0], 'lattice', 'origin', 'geometry');
   await client.answer('retarget', retargeted([1, 0, 0], 10));
-  await resolved(desc);
-  assert.deepEqual(client.sent('retarget').map((r) => r.payload.seamEnergy), ['geometry', 'descriptor']);
-  assert.equal(session.state.retarget.seamEnergy, 'descriptor');
+  await resolved(geo);
+  assert.deepEqual(client.sent('retarget').map((r) => r.payload.seamEnergy), ['descriptor', 'geometry']);
+  assert.equal(session.state.retarget.seamEnergy, 'geometry');
 });
 
 test('a stale load answer is ignored after a newer load, whichever arrives first', async () => {

@@ -26,7 +26,7 @@ std::string join(const std::vector<int>& v) {
 namespace {
 
 struct ResizeArgs {
-  std::string input, output, json, dump_mrf, labels = "lattice", pivot = "origin", seam_energy = "geometry";
+  std::string input, output, json, dump_mrf, labels = "lattice", pivot = "origin", seam_energy = "descriptor";
   bool exact = false, strict = false;
   double seam_tolerance = 0;
   PolicyNames policies;
@@ -189,8 +189,8 @@ void register_resize(CLI::App& app, int* exit_code) {
       ->check(CLI::IsMember(label_space_names()))
       ->capture_default_str();
   cmd->add_option("--seam-energy", args->seam_energy,
-                  "pairwise term: geometry (the surfaces at the seam) or descriptor (the paper's whole-cell "
-                  "descriptor sets)")
+                  "pairwise term: descriptor (the paper's whole-cell descriptor sets) or geometry (the "
+                  "surfaces at the seam)")
       ->check(CLI::IsMember(seam_energy_names()))
       ->capture_default_str();
   cmd->add_option("--seam-tolerance", args->seam_tolerance,

@@ -45,7 +45,7 @@ inline const std::vector<std::string>& label_space_names() {
 
 /// The seam energies by name (RetargetOptions::seam_energy; the default first).
 inline const std::vector<std::string>& seam_energy_names() {
-  static const std::vector<std::string> n{"geometry", "descriptor"};
+  static const std::vector<std::string> n{"descriptor", "geometry"};
   return n;
 }
 

@@ -75,7 +75,7 @@ node -e '
   if (!(j.sparsity.top7 > 0 && j.sparsity.top7 <= j.sparsity.top20 && j.sparsity.top20 <= 1)) process.exit(1);
 ' "$work/pins-analysis.json" && ok || bad "analyze --json fields or the pin pitch are wrong"
 expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins+3.glb" --steps 3 --json "$work/pins+3.json" --dump-mrf "$work/pins+3.mrf"
-grep -q "seams (geometry energy): .* worst mismatch" "$work/out" && ok || bad "resize: no seam summary line: $(cat "$work/out")"
+grep -q "seams (descriptor energy): .* worst mismatch" "$work/out" && ok || bad "resize: no seam summary line: $(cat "$work/out")"
 validate "$work/pins+3.glb"
 node -e '
   const j = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
@@ -93,7 +93,7 @@ node -e '
 # every seam a warning on stderr and in the JSON; --strict turns that into exit 7 (the output is written).
 node -e '
   const j = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
-  if (j.seam_energy !== "geometry" || !Array.isArray(j.seams) || !Array.isArray(j.warnings) || j.warnings.length !== 0) process.exit(1);
+  if (j.seam_energy !== "descriptor" || !Array.isArray(j.seams) || !Array.isArray(j.warnings) || j.warnings.length !== 0) process.exit(1);
   if (!(j.seam_tolerance > 0) || !(j.sample_spacing > 0) || j.seams.length === 0) process.exit(1);
   let worst = 0;
   for (const s of j.seams) { if (s.cells.length !== 2 || s.labels.length !== 2 || !(s.mismatch >= 0)) process.exit(1); worst = Math.max(worst, s.mismatch); }
@@ -108,8 +108,8 @@ node -e '
 expect_error 7 "strict" "$bin" resize "$work/pins.glb" -o "$work/pins-strict.glb" --steps 3 --seam-tolerance 1e-9 --strict
 [ -s "$work/pins-strict.glb" ] && ok || bad "resize --strict: the output was not written"
 expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-strict.glb" --steps 3 --strict
-expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-desc.glb" --steps 3 --seam-energy descriptor --json "$work/pins-desc.json"
-[ "$(json_field seam_energy < "$work/pins-desc.json")" = '"descriptor"' ] && ok || bad "resize --seam-energy descriptor: not in the JSON"
+expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-geo.glb" --steps 3 --seam-energy geometry --json "$work/pins-geo.json"
+[ "$(json_field seam_energy < "$work/pins-geo.json")" = '"geometry"' ] && ok || bad "resize --seam-energy geometry: not in the JSON"
 expect_error 2 "seam-energy" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --steps 1 --seam-energy hausdorff
 expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins0.glb" --steps 0
 tris0=$("$bin" info "$work/pins0.glb" --json - | json_field triangles); trisin=$("$bin" info "$work/pins.glb" --json - | json_field triangles)

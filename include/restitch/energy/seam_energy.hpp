@@ -29,8 +29,8 @@
 //           D(x - di, x - dj) + D(x' - di, x' - dj), where D is the cell-set
 //           distance, 0 for two empty cells, `empty_mismatch` for one empty
 //           and one not; a cell outside the input grid counts as empty.
-//           Built on CellSlabs instead (restitch/energy/seam_geometry.hpp, the
-//           default of RetargetOptions::seam_energy), D(a, b) becomes the slab
+//           Built on CellSlabs instead (restitch/energy/seam_geometry.hpp,
+//           RetargetOptions::seam_energy geometry), D(a, b) becomes the slab
 //           mismatch G(a, b; e) toward the neighbour e across the seam (model
 //           units), with CellSlabs' empty_mismatch and forbidden = 1000 x it.
 // Constants: descriptor distances are at most 2 * r, r the largest descriptor
@@ -153,6 +153,28 @@ class SeamMrf {
     if (entries <= dense_table_limit) table_.assign(entries, std::nan(""));
     build_edges(nb);
     build_unary();
+  }
+
+  /// Ends inside end cells (Lattice::end_low / end_high, restitch/lattice/fit.hpp): an output cell that
+  /// is not on the output's low (high) face along a resized axis a but copies the input's first (last)
+  /// cell along a, whose end plane lies inside that cell, carries the model's end into the middle of the
+  /// result (the grid reaches past the model there, so the end is not an overhang the stitcher would
+  /// cut off). It costs `empty_mismatch`, as a missing surface does; added to the unary table.
+  void penalise_inner_ends(const Eigen::Array3d& end_low, const Eigen::Array3d& end_high) {
+    const int n = node_count(), m = label_count();
+    for (int x = 0; x < n; ++x) {
+      const Eigen::Array3i cx = out_.cell(x);
+      for (int l = 0; l < m; ++l) {
+        const Eigen::Array3i s = cx - labels_[std::size_t(l)];
+        if (!in_.inside(s)) continue;
+        for (int a = 0; a < 3; ++a) {
+          if (k_[a] == 0) continue;
+          const bool low = end_low[a] > 0 && s[a] == 0 && cx[a] != 0;
+          const bool high = end_high[a] < 1 && s[a] == in_.dims[a] - 1 && cx[a] != out_.dims[a] - 1;
+          if (low || high) unary_[std::size_t(x) * std::size_t(m) + std::size_t(l)] += empty_mismatch_;
+        }
+      }
+    }
   }
 
   // ---- the labelling-problem contract ----

@@ -56,8 +56,8 @@ namespace restitch {
 
 /// Which pairwise term the labelling problem uses (docs/method.md 2.4, 2.4b).
 enum class SeamEnergy {
-  geometry,   ///< the surfaces at the seam compared (CellSlabs), model units; the default
-  descriptor  ///< the paper's: descriptor sets of whole cells compared (CellDescriptors)
+  geometry,   ///< the surfaces at the seam compared (CellSlabs), model units
+  descriptor  ///< the paper's: descriptor sets of whole cells compared (CellDescriptors); the default
 };
 
 inline const char* seam_energy_name(SeamEnergy e) { return e == SeamEnergy::geometry ? "geometry" : "descriptor"; }
@@ -164,6 +164,42 @@ class CellSlabs {
   }
   std::size_t cached_pairs() const { return cache_.size(); }
 
+  /// The mismatch of input cells c1 and c2 (either may lie outside the grid, as for mismatch) at the plane
+  /// at relative canonical
+  /// position f (0 <= f <= 1) of axis a: the seam of an end cap (restitch/stitch/stitch.hpp), at the
+  /// end plane (Lattice::end_low / end_high; the cell plane 0 or 1, or inside the cell), or of two
+  /// neighbours (the seam report, retarget.hpp). The smaller of the two sides: the slabs just below the
+  /// plane compared, and those just above it (when either side agrees, the geometry crosses the cut
+  /// unbroken). A slab is the space within the half-width of the plane, relative to the cell: past a
+  /// cell plane it holds the next cell's samples, or an end cell's overhang (not the whole overhang:
+  /// the slab is not widened to infinity along a). Not cached.
+  double plane_mismatch(const Eigen::Array3i& c1, const Eigen::Array3i& c2, int a, double f) {
+    if ((c1 == c2).all()) return 0.0;
+    const bool in1 = grid_.inside(c1), in2 = grid_.inside(c2);
+    if (!in1 && !in2) return 0.0;
+    if (!in1 || !in2) {  // an empty cell against samples at the plane: a missing surface
+      double lo[3], hi[3];
+      for (int b = 0; b < 3; ++b) lo[b] = 0.0, hi[b] = 1.0;
+      lo[a] = f - width_[a];
+      hi[a] = f + width_[a];
+      Slab s;
+      fill_slab(s, in1 ? c1 : c2, lo, hi, a);
+      return s.q.empty() ? 0.0 : empty_mismatch_;
+    }
+    double side[2];
+    for (int k = 0; k < 2; ++k) {
+      double lo[3], hi[3];
+      for (int b = 0; b < 3; ++b) lo[b] = 0.0, hi[b] = 1.0;
+      lo[a] = k == 0 ? f - width_[a] : f;
+      hi[a] = k == 0 ? f : f + width_[a];
+      Slab s1, s2;
+      fill_slab(s1, c1, lo, hi, a);
+      fill_slab(s2, c2, lo, hi, a);
+      side[k] = compare(s1, s2);
+    }
+    return std::min(side[0], side[1]);
+  }
+
   /// The index 0..26 of a direction (components -1, 0, 1; x fastest).
   static std::size_t direction(const Eigen::Array3i& e) {
     return std::size_t((e[0] + 1) + 3 * ((e[1] + 1) + 3 * (e[2] + 1)));
@@ -185,17 +221,38 @@ class CellSlabs {
     for (int a = 0; a < 3; ++a) {
       lo[a] = e[a] > 0 ? 1 - width_[a] : 0.0;
       hi[a] = e[a] < 0 ? width_[a] : 1.0;
+    }
+    fill_slab(s, c, lo, hi);
+    return s;
+  }
+
+  // The samples of cell c with relative canonical coordinates in [lo, hi) per axis (a bound at the
+  // cell's own plane 0 or 1 of an end cell reaches to infinity outward: clamping), and those around
+  // it (the interval widened by the margin, from c and its neighbours). Along `exact_axis` (a plane
+  // slab) the interval is not clamped and may reach into the neighbours there: their samples count.
+  void fill_slab(Slab& s, const Eigen::Array3i& c, double lo[3], double hi[3], int exact_axis = -1) {
+    for (int a = 0; a < 3; ++a) {
+      if (a == exact_axis) continue;
       if (c[a] == 0 && lo[a] == 0.0) lo[a] = -INFINITY;
       if (c[a] == grid_.dims[a] - 1 && hi[a] == 1.0) hi[a] = INFINITY;
     }
     const Eigen::Vector3d corner = origin_ + A_ * c.cast<double>().matrix();
     std::vector<int> in_slab;
-    for (const int i : members_[std::size_t(grid_.index(c))]) {
-      const Eigen::Vector3d u = canonical_[std::size_t(i)] - c.cast<double>().matrix();
-      bool inside = true;
-      for (int a = 0; a < 3; ++a) inside = inside && u[a] >= lo[a] && u[a] < hi[a];
-      if (inside) in_slab.push_back(i);
-    }
+    const auto gather = [&](const Eigen::Array3i& from) {
+      for (const int i : members_[std::size_t(grid_.index(from))]) {
+        const Eigen::Vector3d u = canonical_[std::size_t(i)] - c.cast<double>().matrix();
+        bool inside = true;
+        for (int a = 0; a < 3; ++a) inside = inside && u[a] >= lo[a] && u[a] < hi[a];
+        if (inside) in_slab.push_back(i);
+      }
+    };
+    gather(c);
+    if (exact_axis >= 0)  // a plane slab may reach into the neighbours along its axis: their samples too
+      for (const int step : {-1, 1}) {
+        Eigen::Array3i nc = c;
+        nc[exact_axis] += step;
+        if (grid_.inside(nc)) gather(nc);
+      }
     const std::size_t n = in_slab.size(), m = std::min(n, max_queries);
     for (std::size_t k = 0; k < m; ++k) s.q.push_back(points_[std::size_t(in_slab[k * n / m])] - corner);
     // Around: the slab widened by the margin on every side, from the cell and its neighbours.
@@ -211,7 +268,6 @@ class CellSlabs {
             if (near) s.r.push_back(points_[std::size_t(i)] - corner);
           }
         }
-    return s;
   }
 
   // max over q of the distance to its nearest r.

@@ -37,6 +37,26 @@
 // at least one cell. Dummy axes are treated exactly like real ones, with their
 // own length (0.2 normalized).
 //
+// End planes (Lattice::end_low, end_high): where an end cap starts when an
+// output end is copied from a cell that is not the input's end cell (the
+// stitcher, docs/method.md section 3). When the geometry reaches past the
+// outer plane of the end cell (or exactly to it), the cell plane: the cap is
+// the overhang. When it stops short of it (the end cell is not full, the grid
+// reaches past the model), the cap must start inside the end cell, before the
+// model's end, so that the output ends where a model with fewer repeats
+// would: the end plane is then the cheapest position (the phase cost above)
+// among the candidates strictly inside the end cell's filled part (at least
+// one band away from the model's end) and inside the end cell's PERIODIC
+// part, ties broken as for the phase (centre of the widest run). The periodic
+// part is what the end cell shares with its neighbour one period inward: the
+// end cell's dense samples each have a sample of the neighbour within 1.5
+// bands once moved by one period inward, and the neighbour's samples one in
+// the end cell once moved outward (those past the model's end aside); it
+// reaches from the inner cell plane toward the end up to a band before the
+// first sample that fails either test. So a cap does not cut through an
+// end's own parts (a fence's end post, a panel). Without a candidate the cell
+// plane stays.
+//
 // Contract: `mesh` passes restitch::validate; `norm` is the analysis's
 // normalization; `dense` holds normalized surface samples (may be empty: then
 // every phase costs 0 and phase 0 is used); `axes.axes` are linearly
@@ -48,9 +68,11 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "restitch/descriptor/descriptor.hpp"
+#include "restitch/detail/point_tree.hpp"
 #include "restitch/lattice/lattice.hpp"
 #include "restitch/mesh.hpp"
 #include "restitch/normalization.hpp"
@@ -92,6 +114,63 @@ inline int choose_phase(const std::vector<std::size_t>& cost) {
   return (best_start + (best_len - 1) / 2) % K;
 }
 
+/// The end plane (header comment) among candidate positions j / K, j = j0 .. j1, of a cell, where
+/// the phase cost of position j is cost[(k_phase + j) mod K]: the cheapest, ties to the centre of the
+/// widest run (the lower one for an even length; among equal runs the first). -1 when j0 > j1.
+inline int choose_end(const std::vector<std::size_t>& cost, int k_phase, int j0, int j1) {
+  if (j0 > j1) return -1;
+  const int K = int(cost.size());
+  const auto at = [&](int j) { return cost[std::size_t((k_phase + j) % K)]; };
+  std::size_t best = at(j0);
+  for (int j = j0; j <= j1; ++j) best = std::min(best, at(j));
+  int best_start = -1, best_len = 0;
+  for (int j = j0; j <= j1;) {
+    if (at(j) != best) {
+      ++j;
+      continue;
+    }
+    int len = 0;
+    while (j + len <= j1 && at(j + len) == best) ++len;
+    if (len > best_len) best_len = len, best_start = j;
+    j += len;
+  }
+  return best_start + (best_len - 1) / 2;
+}
+
+/// How far the periodic part of an end cell reaches (header comment, End planes), in relative canonical
+/// coordinates of that cell along its axis (0 and 1 its planes). `rel(i)`: sample i's canonical
+/// coordinate along the axis minus the end cell's lower plane; `inward`: +1 for the low end (the
+/// neighbour is the next cell), -1 for the high end; `filled`: where the model ends inside the end cell
+/// (low end: its start lo_rel; high end: the filled share). Returns the first failing sample's position
+/// seen from the inner plane (low end: the largest; high end: the smallest), or the outer plane (0 for
+/// the low end, 1 for the high end) when none fails. `tau`: the match distance (normalized units),
+/// `tau_canonical` the same across the planes (canonical units).
+template <class Rel>
+double periodic_reach(const PointSet& dense, const PointSetTree& tree, const Eigen::Vector3d& period, Rel rel,
+                      int inward, double filled, double tau_canonical, double tau) {
+  const bool high = inward < 0;
+  double reach = high ? 1.0 : 0.0;
+  const float tau2 = float(tau * tau);
+  const auto matched = [&](Eigen::Index i, double sign) {
+    const Eigen::Vector3d q = dense.points.row(i).cast<double>().transpose() + sign * period;
+    const float qf[3] = {float(q[0]), float(q[1]), float(q[2])};
+    std::uint32_t idx = 0;
+    float d2 = 0;
+    return tree.knnSearch(qf, 1, &idx, &d2) == 1 && d2 <= tau2;
+  };
+  for (Eigen::Index i = 0; i < dense.points.rows(); ++i) {
+    const double r = rel(i);
+    if (r >= 0 && r < 1) {  // in the end cell (its overhang aside): the counterpart one period inward
+      if (!matched(i, double(inward))) reach = high ? std::min(reach, r) : std::max(reach, r);
+    } else if (high ? (r >= -1 && r < 0) : (r >= 1 && r < 2)) {  // the neighbour: one period outward
+      const double at = high ? r + 1 : r - 1;                     // where it would sit in the end cell
+      const bool past_end = high ? at > filled - tau_canonical : at < filled + tau_canonical;
+      if (!past_end && !matched(i, -double(inward))) reach = high ? std::min(reach, at) : std::max(reach, at);
+    }
+  }
+  return reach;
+}
+
 /// Smallest integer n with n >= x, treating x within 1e-9 of an integer as that integer.
 inline long ceil_tolerant(double x) {
   const double r = std::round(x);
@@ -130,6 +209,16 @@ inline Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& nor
   if (!(lo <= hi).all()) return error(StatusCode::invalid_mesh, "the mesh has no triangles to fit a lattice to");
 
   const int K = options.phase_candidates;
+  // A k-d tree over the dense samples, for the end planes (built on first need).
+  detail::PointSetAdaptor adaptor{&dense.points};
+  std::unique_ptr<detail::PointSetTree> tree;
+  const auto dense_tree = [&]() -> const detail::PointSetTree& {
+    if (!tree) {
+      tree = std::make_unique<detail::PointSetTree>(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+      tree->buildIndex();
+    }
+    return *tree;
+  };
   Eigen::Array3i cells;
   Eigen::Array3d start;
   for (int a = 0; a < 3; ++a) {
@@ -160,6 +249,36 @@ inline Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& nor
     if (last - first > 1 && high_fill < options.sliver) --last;
     start[a] = s0 + double(first);
     cells[a] = int(last - first);
+
+    // End planes: inside an end cell the geometry does not fill, within its periodic part (header comment).
+    const double lo_rel = lo[a] - start[a], hi_rel = hi[a] - start[a];  // the model's ends, cells from start
+    const double margin = std::max(h, 1e-9);
+    const double high_room = hi_rel - double(cells[a] - 1);  // filled share of the last cell
+    if (cells[a] >= 2 && dense.points.rows() > 0 && (lo_rel > margin || high_room < 1 - margin)) {
+      const Eigen::Vector3d period = A.col(a);
+      const double tau = 1.5 * options.band, tau_canonical = tau * row_norm;
+      const Eigen::RowVector3d to_axis = Ainv.row(a);
+      const auto rel_from = [&](double plane) {
+        return [&dense, to_axis, plane](Eigen::Index i) {
+          return to_axis.dot(dense.points.row(i).cast<double>()) - plane;
+        };
+      };
+      if (lo_rel > margin) {
+        const double reach =
+            detail::periodic_reach(dense, dense_tree(), period, rel_from(start[a]), +1, lo_rel, tau_canonical, tau);
+        const double from = std::max(lo_rel, reach) + margin;
+        const int j = detail::choose_end(cost, k, int(std::floor(from * K)) + 1, K - 1);
+        if (j > 0) fit.lattice.end_low[a] = double(j) / K;
+      }
+      if (high_room < 1 - margin) {
+        const double reach = detail::periodic_reach(dense, dense_tree(), period,
+                                                    rel_from(start[a] + double(cells[a] - 1)), -1, high_room,
+                                                    tau_canonical, tau);
+        const double to = std::min(high_room, reach) - margin;
+        const int j = detail::choose_end(cost, k, 1, int(std::ceil(to * K)) - 1);
+        if (j > 0) fit.lattice.end_high[a] = double(j) / K;
+      }
+    }
   }
   fit.A_normalized = A;
   fit.origin_normalized = A * start.matrix();

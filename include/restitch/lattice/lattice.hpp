@@ -22,6 +22,12 @@ struct Lattice {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< model-space point of canonical (0,0,0)
   Eigen::Array3i cells = Eigen::Array3i::Ones();     ///< input cells U_in, V_in, W_in
   std::array<bool, 3> dummy{{false, false, false}};  ///< column a is a dummy direction (never resized)
+  /// Where the input's ends begin, as canonical positions within the first cell (end_low, in [0, 1))
+  /// and within the last cell (end_high, in (0, 1]; the plane at cells[a] - 1 + end_high). An output
+  /// end whose cell is not the input's end cell is cut there and given the input's end from there on
+  /// (an end cap, restitch/stitch/stitch.hpp). The cell planes (0 and 1) unless an end cell is not
+  /// full, so that the end must start inside it (restitch/lattice/fit.hpp).
+  Eigen::Array3d end_low = Eigen::Array3d::Zero(), end_high = Eigen::Array3d::Ones();
 
   /// A's inverse; A is invertible by construction (principal offsets are at least 60 degrees apart).
   Eigen::Matrix3d A_inverse() const { return A.inverse(); }

@@ -34,7 +34,14 @@
 // is kept only when s_a == 0 AND x_a == 0 (that is, d_a == 0), the overhang
 // beyond plane cells[a] only when s_a == U_in - 1 AND x_a == U_out - 1. An
 // interior output cell that copies an end cell gets that cell without its
-// overhang (cut at the outer plane).
+// overhang (cut at the outer plane). An end cell x whose source is not the
+// input's end cell along a gets an END CAP instead: the input's end from the
+// end plane outward (Lattice::end_low / end_high: the cell plane, so the
+// overhang, unless the input's end cell is not full), taken from the end cell
+// s' (s with s'_a = 0 or U_in - 1) and translated with the anchored shift;
+// x's own copy is cut at the same plane (stitch/detail/regions.hpp). Ends are
+// therefore always kept, and an output one cell long carries both
+// (docs/method.md section 3).
 //
 // Labels pointing outside the input. A shift whose source x - d lies outside
 // the input grid (a bad choice of the solver; the energy forbids it) leaves
@@ -137,6 +144,7 @@ struct StitchReport {
   std::size_t triangles_clipped = 0;     ///< input triangle copies that crossed a region boundary and were clipped
   std::size_t seam_vertices_welded = 0;  ///< output vertices removed by welding
   std::size_t t_junction_edges_split = 0;  ///< boundary seam edges split at T-vertices (stitch/detail/tjunction.hpp)
+  std::size_t end_caps = 0;  ///< overhangs copied onto ends whose region is not anchored there (file comment)
   double ms = 0;                         ///< wall-clock time of the call (informative only)
 };
 
@@ -232,6 +240,7 @@ class ClipStitcher {
     detail::RegionClipper clipper(in, cache, layout, out_grid, regions, output);
     std::vector<std::int32_t> stamp(in.triangle_count(), -1);  // per input triangle: the last region that gathered it
     std::vector<std::uint32_t> gathered;
+    std::size_t cap = 0;
     for (std::int32_t r = 0; r < std::int32_t(regions.size()); ++r) {
       const detail::Region region(regions, r, out_grid, lat.cells);
       gather_triangles(cache, out_grid, regions, region, stamp, gathered);
@@ -241,7 +250,18 @@ class ClipStitcher {
         else
           ++report.triangles_copied;
       }
+      for (; cap < regions.caps.size() && regions.caps[cap].owner == r; ++cap) {  // its end caps
+        const detail::Region end(regions, cap, out_grid, lat.cells);
+        gather_triangles(cache, out_grid, regions, end, stamp, gathered);
+        const bool at_cell_plane = end.cap_plane == std::floor(end.cap_plane);  // then only overhangs
+        for (std::uint32_t t : gathered)
+          if (!at_cell_plane || (cache.overhang(t) & end.cap_flag())) {
+            clipper.add_triangle(end, t);
+            ++report.triangles_clipped;
+          }
+      }
     }
+    report.end_caps = regions.caps.size();
     double tol = cache.tolerance();
     std::vector<std::uint32_t> rep_of =
         weld ? detail::weld_map(output, in, cache, layout, float(attribute_tolerance), report.seam_vertices_welded,
@@ -260,8 +280,11 @@ class ClipStitcher {
     const CellGrid in_grid(cache.lattice().cells);
     gathered.clear();
     std::uint32_t tmin = std::numeric_limits<std::uint32_t>::max(), tmax = 0;
-    for (std::uint32_t q = regions.start[std::size_t(region.id)]; q < regions.start[std::size_t(region.id) + 1]; ++q) {
-      const int s = in_grid.index(out_grid.cell(regions.cells[q]) - region.d);
+    const std::size_t owner = std::size_t(region.owner);
+    for (std::uint32_t q = regions.start[owner]; q < regions.start[owner + 1]; ++q) {
+      const Eigen::Array3i x = out_grid.cell(regions.cells[q]);
+      if (region.cap_axis >= 0 && x(region.cap_axis) != region.cap_face) continue;
+      const int s = in_grid.index(x - region.d);
       for (const std::uint32_t* t = cache.bucket_begin(s); t != cache.bucket_end(s); ++t) {
         if (stamp[*t] == region.id) continue;
         stamp[*t] = region.id;

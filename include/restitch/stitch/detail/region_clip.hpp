@@ -6,7 +6,10 @@
 // a binary space partition over its cell range until each piece lies in cells
 // all in or all out of the region; pieces in the region are emitted as fans,
 // slivers dropped. The region is passed explicitly to every call (`Region`),
-// so nothing here depends on which region was processed before.
+// so nothing here depends on which region was processed before. An end cap
+// (regions.hpp) is a Region too: its cells are its owner's cells on one end
+// face, its triangles are always clipped, and only their part beyond that
+// end's plane is kept; its owner keeps only the part before that plane.
 #pragma once
 
 #include <Eigen/Core>
@@ -25,15 +28,43 @@
 
 namespace restitch::detail {
 
-/// One region as the clipper needs it.
+/// One region (or end cap) as the clipper needs it.
 struct Region {
-  std::int32_t id = -1;
+  std::int32_t id = -1;     ///< the output vertices' region: index into StitchRegions::translation
+  std::int32_t owner = -1;  ///< the region whose cells these are (id, for a region)
+  int cap_axis = -1, cap_side = 0, cap_face = 0;  ///< an end cap: which end (else cap_axis = -1)
+  double cap_plane = 0;                         ///< an end cap keeps c_a < plane (low end) or >= plane (high)
   Eigen::Array3i d = Eigen::Array3i::Zero();  ///< its shift
   std::array<bool, 3> keep_low{}, keep_high{};  ///< keeps the overhang below plane 0 / beyond plane cells[a]
   std::uint8_t cut_mask = 0;                    ///< overhang flags (ClipStitchCache::overhang) that force a cut
+  /// A region whose end is capped inside its source cell: keeps c_a >= end_from[a] and c_a < end_to[a].
+  std::array<double, 3> end_from{{-INFINITY, -INFINITY, -INFINITY}}, end_to{{INFINITY, INFINITY, INFINITY}};
+  bool end_cut = false;  ///< some end_from / end_to is finite
 
   Region(const StitchRegions& regions, std::int32_t r, const CellGrid& out, const Eigen::Array3i& cells_in)
-      : id(r), d(regions.shift[std::size_t(r)]) {
+      : id(r), owner(r), d(regions.shift[std::size_t(r)]) {
+    set_keep(out, cells_in);
+    for (const StitchRegions::Cap& c : regions.caps) {  // the caps at planes inside a cell cut this region
+      if (c.owner != r || c.owner_plane == std::floor(c.owner_plane)) continue;
+      (c.side == 0 ? end_from : end_to)[std::size_t(c.axis)] = c.owner_plane;
+      end_cut = true;
+    }
+  }
+  /// End cap c of `regions`.
+  Region(const StitchRegions& regions, std::size_t c, const CellGrid& out, const Eigen::Array3i& cells_in)
+      : id(std::int32_t(regions.size() + c)), owner(regions.caps[c].owner), cap_axis(regions.caps[c].axis),
+        cap_side(regions.caps[c].side), cap_face(regions.caps[c].face), cap_plane(regions.caps[c].plane),
+        d(regions.caps[c].shift) {
+    set_keep(out, cells_in);
+  }
+
+  /// The overhang flag (ClipStitchCache::overhang) of a cap's end; 0 for a region.
+  std::uint8_t cap_flag() const {
+    return cap_axis < 0 ? 0 : std::uint8_t((cap_side == 0 ? 1u : 8u) << cap_axis);
+  }
+
+ private:
+  void set_keep(const CellGrid& out, const Eigen::Array3i& cells_in) {
     for (int a = 0; a < 3; ++a) {
       keep_low[std::size_t(a)] = d(a) == 0;
       keep_high[std::size_t(a)] = d(a) == out.dims(a) - cells_in(a);
@@ -42,6 +73,15 @@ struct Region {
     }
   }
 };
+
+/// Does input cell (i, j, k), moved by r's shift, land in r's cells (for a cap: on its end face)?
+inline bool holds_source_cell(const StitchRegions& regions, const CellGrid& out, const Region& r, int i, int j,
+                              int k) {
+  if (r.cap_axis < 0) return regions.holds_source_cell(out, r.id, i, j, k);
+  const Eigen::Array3i x = Eigen::Array3i(i, j, k) + r.d;  // the cap's own (anchored) shift
+  return x(r.cap_axis) == r.cap_face && out.inside(x(0), x(1), x(2)) &&
+         regions.region_of[std::size_t(out.index(x))] == r.owner;
+}
 
 class RegionClipper {
  public:
@@ -77,18 +117,41 @@ class RegionClipper {
   // No overhang cut needed, and every cell of its range in the region (a
   // one-cell triangle came from that cell's bucket, so its cell is in).
   bool whole(const Region& r, std::uint32_t f, const std::int32_t* range) const {
+    if (r.cap_axis >= 0) return false;  // a cap keeps only what lies beyond its end's plane
     if ((cache_.overhang(f) & r.cut_mask) != 0) return false;
+    if (r.end_cut)
+      for (int a = 0; a < 3; ++a)  // its cells reach an end plane inside a cell: clip
+        if (double(range[a]) < r.end_from[std::size_t(a)] || double(range[3 + a]) + 1 > r.end_to[std::size_t(a)])
+          return false;
     if (range[0] == range[3] && range[1] == range[4] && range[2] == range[5]) return true;
     for (int k = range[2]; k <= range[5]; ++k)
       for (int j = range[1]; j <= range[4]; ++j)
         for (int i = range[0]; i <= range[3]; ++i)
-          if (!regions_.holds_source_cell(out_, r.id, i, j, k)) return false;
+          if (!holds_source_cell(regions_, out_, r, i, j, k)) return false;
     return true;
   }
 
-  // Cuts work_[0] at the overhang planes the region does not keep; false when nothing is left.
+  // Cuts work_[0] at the overhang planes the region does not keep (and, for a cap, away from the
+  // overhang it copies); false when nothing is left.
   bool cut_overhang(const Region& r, std::uint8_t flags) {
     const Eigen::Array3i& cells = cache_.lattice().cells;
+    if (r.cap_axis >= 0) {
+      split_polygon(work_[0], r.cap_axis, r.cap_plane, L_.stride, work_[1], spare_[1]);
+      std::swap(work_[0], r.cap_side == 0 ? work_[1] : spare_[1]);  // c_a < plane, or c_a >= plane
+      if (work_[0].n < 3) return false;
+    }
+    if (r.end_cut)
+      for (int a = 0; a < 3; ++a) {
+        if (std::isfinite(r.end_from[std::size_t(a)])) {  // keep c_a >= end_from
+          split_polygon(work_[0], a, r.end_from[std::size_t(a)], L_.stride, work_[1], spare_[1]);
+          std::swap(work_[0], spare_[1]);
+        }
+        if (std::isfinite(r.end_to[std::size_t(a)])) {  // keep c_a < end_to
+          split_polygon(work_[0], a, r.end_to[std::size_t(a)], L_.stride, work_[1], spare_[1]);
+          std::swap(work_[0], work_[1]);
+        }
+        if (work_[0].n < 3) return false;
+      }
     for (int a = 0; a < 3; ++a) {
       if (!r.keep_low[std::size_t(a)] && (flags & (1u << a))) {  // keep c_a >= 0
         split_polygon(work_[0], a, 0.0, L_.stride, work_[1], spare_[1]);
@@ -124,7 +187,7 @@ class RegionClipper {
     std::int64_t c = 0;
     for (int k = lo[2]; k <= hi[2]; ++k)
       for (int j = lo[1]; j <= hi[1]; ++j)
-        for (int i = lo[0]; i <= hi[0]; ++i) c += regions_.holds_source_cell(out_, r.id, i, j, k);
+        for (int i = lo[0]; i <= hi[0]; ++i) c += holds_source_cell(regions_, out_, r, i, j, k);
     return c;
   }
 
