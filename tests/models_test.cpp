@@ -183,3 +183,25 @@ TEST_CASE("models: the spiral staircase (a screw motion, no translation) has no 
   REQUIRE_FALSE(out.ok());
   CHECK(out.status().code() == StatusCode::no_repetition);
 }
+
+TEST_CASE("models: shrinking to one cell is refused where the two ends would not fit in it", "[models][slow]") {
+  if (!shared_models_present()) {
+    WARN("../shared/models is absent: real-model checks skipped");
+    return;
+  }
+  // The garage door's jambs and first and last windows differ from the middle cells for most of a cell
+  // each (its end planes overlap): one cell would cut one end off, so the request is refused, naming
+  // how many steps can be removed; one step less is a valid two-cell door.
+  auto [model, analysis] = load_and_analyze("scopia_garage-door.glb");
+  Retargeter<> r(model, analysis);
+  const int cells = analysis.lattice.cells[0];
+  REQUIRE(cells > 2);
+  CHECK(analysis.lattice.end_low[0] > analysis.lattice.end_high[0]);
+  auto one = r.retarget(Eigen::Array3i(1 - cells, 0, 0));
+  REQUIRE(!one.ok());
+  CHECK(one.status().code() == StatusCode::invalid_argument);
+  CHECK(one.status().message().find("two ends") != std::string::npos);
+  auto two = r.retarget(Eigen::Array3i(2 - cells, 0, 0));
+  REQUIRE(two.ok());
+  CHECK(validate(two->mesh).ok());
+}

@@ -413,6 +413,15 @@ class Retargeter {
                                                        std::to_string(-steps[a]) + " steps: the model has " +
                                                        std::to_string(grid_.cells[a]) + " cells along it (at most " +
                                                        std::to_string(grid_.cells[a] - 1) + " steps can be removed)");
+    // Down to one cell: its two ends must fit in it. The first cell's own end reaches to end_low and the
+    // last cell's starts at end_high (Lattice, lattice/fit.hpp); when they overlap, one cell would cut one
+    // of them (a garage door whose jambs each take most of a cell).
+    for (int a = 0; a < 3; ++a)
+      if (k[a] != 0 && grid_.cells[a] + k[a] == 1 && grid_.end_low[a] > grid_.end_high[a])
+        return error(StatusCode::invalid_argument,
+                     "cannot shrink axis " + std::to_string(a + 1) + " to one cell: the model's two ends take more " +
+                         "than one cell along it and would be cut (at most " + std::to_string(grid_.cells[a] - 2) +
+                         " steps can be removed)");
     rep.cells_out = grid_.cells + k;
     const double nodes = double(rep.cells_out.prod());
     const double labels = double((k.abs() + 1).prod());

@@ -40,11 +40,13 @@
 // End planes (Lattice::end_low, end_high): where an end cap starts when an
 // output end is copied from a cell that is not the input's end cell (the
 // stitcher, docs/method.md section 3). When the geometry reaches past the
-// outer plane of the end cell (or exactly to it), the cell plane: the cap is
-// the overhang. When it stops short of it (the end cell is not full, the grid
-// reaches past the model), the cap must start inside the end cell, before the
-// model's end, so that the output ends where a model with fewer repeats
-// would: the end plane is then the cheapest position (the phase cost above)
+// outer plane of the end cell (or exactly to it) and the whole end cell
+// repeats its neighbour, the cell plane: the cap is the overhang. When it
+// stops short of it (the end cell is not full, the grid reaches past the
+// model) or the end's own parts reach into the end cell, the cap must start
+// inside the end cell, before the model's end and past the end's parts, so
+// that the output ends where a model with fewer repeats would: the end plane
+// is then the cheapest position (the phase cost above)
 // among the candidates strictly inside the end cell's filled part (at least
 // one band away from the model's end) and inside the end cell's PERIODIC
 // part, ties broken as for the phase (centre of the widest run). The periodic
@@ -254,7 +256,7 @@ inline Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& nor
     const double lo_rel = lo[a] - start[a], hi_rel = hi[a] - start[a];  // the model's ends, cells from start
     const double margin = std::max(h, 1e-9);
     const double high_room = hi_rel - double(cells[a] - 1);  // filled share of the last cell
-    if (cells[a] >= 2 && dense.points.rows() > 0 && (lo_rel > margin || high_room < 1 - margin)) {
+    if (cells[a] >= 2 && dense.points.rows() > 0) {
       const Eigen::Vector3d period = A.col(a);
       const double tau = 1.5 * options.band, tau_canonical = tau * row_norm;
       const Eigen::RowVector3d to_axis = Ainv.row(a);
@@ -263,18 +265,18 @@ inline Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& nor
           return to_axis.dot(dense.points.row(i).cast<double>()) - plane;
         };
       };
-      if (lo_rel > margin) {
-        const double reach =
-            detail::periodic_reach(dense, dense_tree(), period, rel_from(start[a]), +1, lo_rel, tau_canonical, tau);
-        const double from = std::max(lo_rel, reach) + margin;
+      const double reach_low =
+          detail::periodic_reach(dense, dense_tree(), period, rel_from(start[a]), +1, lo_rel, tau_canonical, tau);
+      if (lo_rel > margin || reach_low > 0) {
+        const double from = std::max(lo_rel, reach_low) + margin;
         const int j = detail::choose_end(cost, k, int(std::floor(from * K)) + 1, K - 1);
         if (j > 0) fit.lattice.end_low[a] = double(j) / K;
       }
-      if (high_room < 1 - margin) {
-        const double reach = detail::periodic_reach(dense, dense_tree(), period,
-                                                    rel_from(start[a] + double(cells[a] - 1)), -1, high_room,
-                                                    tau_canonical, tau);
-        const double to = std::min(high_room, reach) - margin;
+      const double reach_high = detail::periodic_reach(dense, dense_tree(), period,
+                                                       rel_from(start[a] + double(cells[a] - 1)), -1, high_room,
+                                                       tau_canonical, tau);
+      if (high_room < 1 - margin || reach_high < 1) {
+        const double to = std::min(high_room, reach_high) - margin;
         const int j = detail::choose_end(cost, k, 1, int(std::ceil(to * K)) - 1);
         if (j > 0) fit.lattice.end_high[a] = double(j) / K;
       }
