@@ -13,7 +13,7 @@
 // listed: the input's end cells (s_a = 0 or U_in - 1, the other components
 // those of the region's sources) from the end plane outward (Lattice::end_low
 // / end_high: the cell plane, so the overhang, unless the end cell is not
-// full), copied with the anchored shift d' (d with d_a set to the anchor), so
+// full or does not wholly repeat its neighbour), copied with the anchored shift d' (d with d_a set to the anchor), so
 // it lands at the output's end; the region's face cells are cut at the same
 // plane. So an output one cell long still gets both ends (docs/method.md
 // section 3). Caps are numbered after the regions (their translations follow
@@ -36,8 +36,9 @@ struct StitchRegions {
   std::vector<Eigen::Vector3d> translation;  ///< A d of each region, model units
   std::vector<std::uint32_t> start, cells;   ///< CSR: cells of region r are cells[start[r] .. start[r + 1])
 
-  /// An end cap (see the file comment): region `owner`'s cells on the face x_axis = face, the overhang
-  /// beyond that face copied with `shift`; its translation is translation[size() + index].
+  /// An end cap (see the file comment): for region `owner`'s cells on the face x_axis = face, the input's
+  /// end cells from the end plane outward, copied with `shift`; its translation is
+  /// translation[size() + index].
   struct Cap {
     std::int32_t owner = -1;
     int axis = 0, side = 0;  ///< side 0: the low end (below plane); 1: the high end (from plane on)
