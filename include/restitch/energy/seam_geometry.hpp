@@ -43,7 +43,9 @@
 #include <cmath>
 #include <cstdint>
 #include <nanoflann.hpp>
+#include <map>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -172,7 +174,8 @@ class CellSlabs {
   /// plane compared, and those just above it (when either side agrees, the geometry crosses the cut
   /// unbroken). A slab is the space within the half-width of the plane, relative to the cell: past a
   /// cell plane it holds the next cell's samples, or an end cell's overhang (not the whole overhang:
-  /// the slab is not widened to infinity along a). Not cached.
+  /// the slab is not widened to infinity along a). Pairs of inside cells are cached (per cell pair,
+  /// axis and f), as mismatch is: the live slider asks for the same seams again.
   double plane_mismatch(const Eigen::Array3i& c1, const Eigen::Array3i& c2, int a, double f) {
     if ((c1 == c2).all()) return 0.0;
     const bool in1 = grid_.inside(c1), in2 = grid_.inside(c2);
@@ -186,6 +189,10 @@ class CellSlabs {
       fill_slab(s, in1 ? c1 : c2, lo, hi, a);
       return s.q.empty() ? 0.0 : empty_mismatch_;
     }
+    const int i1 = grid_.index(c1), i2 = grid_.index(c2);
+    const auto key = std::make_tuple(std::min(i1, i2), std::max(i1, i2), a, f);
+    const auto hit = plane_cache_.find(key);
+    if (hit != plane_cache_.end()) return hit->second;
     double side[2];
     for (int k = 0; k < 2; ++k) {
       double lo[3], hi[3];
@@ -197,7 +204,9 @@ class CellSlabs {
       fill_slab(s2, c2, lo, hi, a);
       side[k] = compare(s1, s2);
     }
-    return std::min(side[0], side[1]);
+    const double d = std::min(side[0], side[1]);
+    plane_cache_.emplace(key, d);
+    return d;
   }
 
   /// The index 0..26 of a direction (components -1, 0, 1; x fastest).
@@ -310,6 +319,7 @@ class CellSlabs {
   std::vector<std::vector<int>> members_;
   std::vector<Slab> slabs_;
   std::unordered_map<std::uint64_t, double> cache_;
+  std::map<std::tuple<int, int, int, double>, double> plane_cache_;  // plane_mismatch of inside cells
 };
 
 }  // namespace restitch
