@@ -1,13 +1,16 @@
-// Tests for lattice/grid.hpp (the cell-grid type) and detail/cell_hash.hpp (the hashed grid),
-// against brute-force oracles.
+// Tests for lattice/grid.hpp (the cell-grid type), detail/cell_hash.hpp (the hashed grid) and
+// detail/point_tree.hpp (the bounded nearest search), against brute-force oracles.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 #include <set>
 #include <vector>
 
 #include "restitch/detail/cell_hash.hpp"
+#include "restitch/detail/point_tree.hpp"
 #include "restitch/lattice/grid.hpp"
 
 using restitch::CellGrid;
@@ -122,4 +125,46 @@ TEST_CASE("CellChains lists exactly the items inserted into each cell", "[grid]"
         for (int i : got) want = want || i % 2 == 0;
         CHECK(any == want);
       }
+}
+
+TEST_CASE("NearestWithin: the bounded search answers as the unbounded one, or none beyond the bound", "[grid]") {
+  // Points on a coarse grid (many equal distances) plus random ones; queries anywhere, bounds from
+  // 0 to past every point. Oracle: the unbounded one-nearest search and a scan of every point.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  restitch::MatrixX3f P(400, 3);
+  for (Eigen::Index i = 0; i < P.rows(); ++i)
+    for (int c = 0; c < 3; ++c) P(i, c) = i < 200 ? std::round(u(rng) * 8) / 8 : u(rng);
+  restitch::detail::PointSetAdaptor adaptor{&P};
+  restitch::detail::PointSetTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  int found = 0, none = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const float q[3] = {std::round(u(rng) * 16) / 16 * 1.2f - 0.1f, u(rng) * 1.2f - 0.1f, u(rng)};
+    const float bound2 = k % 7 == 0 ? 0.0f : u(rng) * u(rng) * 0.05f;
+    float least = std::numeric_limits<float>::infinity();
+    for (Eigen::Index i = 0; i < P.rows(); ++i) {
+      float d = 0;
+      for (int c = 0; c < 3; ++c) d += (P(i, c) - q[c]) * (P(i, c) - q[c]);
+      least = std::min(least, d);
+    }
+    std::uint32_t idx = 0;
+    float d2 = 0;
+    nanoflann::KNNResultSet<float, std::uint32_t> all(1);
+    all.init(&idx, &d2);
+    tree.findNeighbors(all, q, nanoflann::SearchParams());
+    restitch::detail::NearestWithin near(bound2);
+    tree.findNeighbors(near, q, nanoflann::SearchParams());
+    REQUIRE(d2 == least);
+    if (least < bound2) {
+      ++found;
+      REQUIRE(near.found);
+      CHECK(near.index == idx);  // the same point, ties included
+      CHECK(near.dist == least);
+    } else {
+      ++none;
+      CHECK_FALSE(near.found);
+    }
+  }
+  CHECK(found > 200);  // both branches exercised
+  CHECK(none > 200);
 }

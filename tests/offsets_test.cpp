@@ -214,6 +214,29 @@ TEST_CASE("principal offsets: greedy 60-degree selection, sign convention, dummi
   CHECK(canonical_sign(Vector3d(-0.3, 0.3, 0)) == Vector3d(0.3, -0.3, 0));  // equal magnitudes: x decides
 }
 
+TEST_CASE("lattice vectors: independent offsets and integer combinations", "[offsets][principal]") {
+  const Vector3d x(0.3, 0, 0), y(0.05, 0.4, 0), z(0, 0.01, 0.25);
+  SECTION("independent_offsets keeps the first of each new direction, in order, at most three") {
+    const std::vector<Vector3d> b =
+        independent_offsets({2 * x, x, Vector3d::Zero(), x + y, y, 2 * x - y + Vector3d(0, 0, 0.005), z, x + z}, 0.01);
+    REQUIRE(b.size() == 3);
+    CHECK(b[0] == 2 * x);
+    CHECK(b[1] == x + y);
+    CHECK(b[2] == z);  // 2x - y + 0.005 z lies within 0.01 of the plane of x and y
+    CHECK(independent_offsets({x, Vector3d(NAN, 0, 0), -x}, 0.01).size() == 1);
+  }
+  SECTION("is_lattice_vector: non-zero integer combinations within the tolerance, multiples of `other`") {
+    const std::vector<Vector3d> basis = {x, y};
+    CHECK(is_lattice_vector(2 * x - 3 * y + Vector3d(0.009, 0, 0), basis, nullptr, 0.01));
+    CHECK_FALSE(is_lattice_vector(2 * x - 3 * y + Vector3d(0.011, 0, 0), basis, nullptr, 0.01));
+    CHECK_FALSE(is_lattice_vector(1.5 * x, basis, nullptr, 0.01));
+    CHECK_FALSE(is_lattice_vector(Vector3d(0.001, 0, 0), basis, nullptr, 0.01));  // zero is no lattice vector
+    CHECK_FALSE(is_lattice_vector(z, basis, nullptr, 0.01));
+    CHECK(is_lattice_vector(-3 * z, {}, &z, 0.01));
+    CHECK_FALSE(is_lattice_vector(0.5 * z, {}, &z, 0.01));
+  }
+}
+
 TEST_CASE("histogram detector: a lattice is significant, sliding on a plate is not", "[offsets][detector]") {
   SECTION("matches along the lattice periods") {
     const PointSet cloud = lattice_cloud(11);

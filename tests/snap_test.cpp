@@ -51,3 +51,50 @@ TEST_CASE("snap: no supported repeat leaves the offset unchanged", "[offsets][sn
   const SnapResult none = snap_offset(Eigen::Matrix<double, Eigen::Dynamic, 3>(0, 3), t);
   CHECK_FALSE(none.snapped);
 }
+
+namespace {
+// snap_offset with every point searched at every radius (no grid): the oracle of the grid's cell range.
+SnapResult snap_by_brute_force(const Eigen::Matrix<double, Eigen::Dynamic, 3>& P, const Eigen::Vector3d& t,
+                               const SnapOptions& o = {}) {
+  SnapResult result;
+  result.offset = t;
+  Eigen::Vector3d cur = t;
+  std::size_t pairs = 0;
+  for (double r = o.start_radius; r >= o.end_radius * 0.999; r *= 0.5) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    pairs = 0;
+    for (Eigen::Index i = 0; i < P.rows(); ++i) {
+      const Eigen::Vector3d q = P.row(i).transpose() + cur;
+      double best = r * r;
+      Eigen::Index hit = -1;
+      for (Eigen::Index j = 0; j < P.rows(); ++j) {
+        const double d2 = (P.row(j).transpose() - q).squaredNorm();
+        if (d2 < best || (d2 == best && hit >= 0 && j < hit)) best = d2, hit = j;
+      }
+      if (hit >= 0) sum += P.row(hit).transpose() - P.row(i).transpose(), ++pairs;
+    }
+    if (pairs < o.min_pairs) return result;
+    cur = sum / double(pairs);
+  }
+  if (pairs < o.min_pairs || double(pairs) < o.min_share * double(P.rows())) return result;
+  result.offset = cur, result.snapped = true, result.pairs = pairs;
+  return result;
+}
+}  // namespace
+
+TEST_CASE("snap: the grid's cell range gives exactly the brute-force answer", "[offsets][snap]") {
+  // Exact copies, copies off by less than the radii (pairs lost on the way), points on cell planes
+  // (multiples of the 0.02 cell size) and starts off by up to a radius: offset and pairs bit for bit.
+  for (int trial = 0; trial < 12; ++trial) {
+    const Eigen::Vector3d t(0.25 + 0.01 * trial, 0.02 * (trial % 3), -0.04);
+    auto P = repeated(60, 3, t, std::uint64_t(trial));
+    if (trial % 2) P.bottomRows(60).array() += 1e-4 * double(trial);  // the third copy a little off
+    if (trial % 3 == 0) P.topRows(10) = (P.topRows(10) / 0.02).array().round().matrix() * 0.02;
+    const Eigen::Vector3d start =
+        t + 0.015 * Eigen::Vector3d(std::cos(trial), std::sin(trial), std::cos(2.0 * trial));
+    const SnapResult grid = snap_offset(P, start), brute = snap_by_brute_force(P, start);
+    CHECK(grid.snapped == brute.snapped);
+    CHECK(grid.pairs == brute.pairs);
+    CHECK(grid.offset == brute.offset);
+  }
+}

@@ -266,21 +266,6 @@ void reduce_to_fundamental_periods(const AnalysisOptions<D, M, Det>& options,
   }
 }
 
-/// True when `v` is, within `tolerance`, a non-zero integer combination of the linearly independent
-/// `basis` (the principal offsets), or k times `other` for an integer |k| >= 1.
-inline bool is_lattice_vector(const Eigen::Vector3d& v, const std::vector<Eigen::Vector3d>& basis,
-                              const Eigen::Vector3d* other, double tolerance) {
-  if (other && other->squaredNorm() > 0) {
-    const double k = std::round(v.dot(*other) / other->squaredNorm());
-    if (std::abs(k) >= 1 && (v - k * *other).norm() <= tolerance) return true;
-  }
-  if (basis.empty()) return false;
-  Eigen::MatrixXd B(3, Eigen::Index(basis.size()));
-  for (std::size_t k = 0; k < basis.size(); ++k) B.col(Eigen::Index(k)) = basis[k];
-  const Eigen::VectorXd c = B.colPivHouseholderQr().solve(v).array().round().matrix();
-  return c.cwiseAbs().maxCoeff() >= 1 && (B * c - v).norm() <= tolerance;
-}
-
 /// docs/method.md 1.6.1: the periods shorter than the dense samples resolve (3 dense spacings h).
 /// A pair t (1.6 never divides pairs), or a significant t so short that 1.6 could not try t / 2
 /// (|t| / 2 < 3 h), may be k periods p with |p| = |t| / k under 3 h, where 1.6 cannot look. (A longer
@@ -296,7 +281,8 @@ inline bool is_lattice_vector(const Eigen::Vector3d& v, const std::vector<Eigen:
 /// replaces t, significant, with its divisor multiplied by m. The fine samples are drawn only when a
 /// divisor passes the screen, so most models pay a few overlaps.
 template <class D, class M, class Det>
-Status find_short_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options, Analysis& a) {
+Status find_short_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
+                          const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices, Analysis& a) {
   if (!options.find_fundamentals || !options.find_short_periods || a.dense.size() == 0) return {};
   const double h = options.dense_spacing, hf = h * options.fine_spacing_ratio;
   const double coarse_min = options.fundamental.min_length * h, fine_min = options.fundamental.min_length * hf;
@@ -304,16 +290,32 @@ Status find_short_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
   tests.icp.spacing = h;
   std::unique_ptr<SelfAligner> coarse;  // built when some offset has a short divisor
   std::vector<std::pair<std::size_t, std::vector<int>>> todo;  // (dominant, divisors that pass the screen)
+  std::vector<Eigen::Vector3d> significant;
+  for (const DominantOffset& d : a.dominant)
+    if (d.significant) significant.push_back(d.offset);
+  const std::vector<Eigen::Vector3d> basis = independent_offsets(significant, tests.icp.overlap_radius());
   for (std::size_t i = 0; i < a.dominant.size(); ++i) {
     const DominantOffset& d = a.dominant[i];
     const double len = d.offset.norm();
     if (!d.is_pair() && !(d.significant && len / 2 < coarse_min)) continue;
+    // A pair that is an integer combination of significant offsets is searched through them.
+    if (d.is_pair() && is_lattice_vector(d.offset, basis, nullptr, tests.icp.overlap_radius())) continue;
     std::vector<int> ks;
+    SnapResult exact;  // t's vertex pairs (computed once a divisor passes the overlap screen)
+    bool snapped = false;
     for (int k = options.fundamental.max_divisor; k >= 2; --k) {
       if (!(len / k >= fine_min && len / k < coarse_min)) continue;
       if (!coarse) coarse = std::make_unique<SelfAligner>(a.dense, tests.icp);
-      if (coarse->overlap(d.offset / double(k)) >= coarse->overlap(d.offset) - options.fundamental.overlap_slack)
-        ks.push_back(k);
+      if (coarse->overlap(d.offset / double(k)) < coarse->overlap(d.offset) - options.fundamental.overlap_slack)
+        continue;
+      // Exact copies (offsets/fundamental.hpp): where t's vertices repeat, a period's repeat too, with
+      // at least as many pairs; a t / k whose vertices do not is no period, and needs no fine samples.
+      if (vertices && !snapped) exact = snap_offset(*vertices, d.offset, options.snap), snapped = true;
+      if (exact.snapped) {
+        const SnapResult s = snap_offset(*vertices, d.offset / double(k), options.snap);
+        if (!s.snapped || s.pairs < exact.pairs) continue;
+      }
+      ks.push_back(k);
     }
     if (!ks.empty()) todo.emplace_back(i, std::move(ks));
   }
@@ -423,7 +425,7 @@ Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>&
   Eigen::Matrix<double, Eigen::Dynamic, 3> P;  // unique vertex positions, normalized (offsets/snap.hpp)
   if (options.snap_to_vertices) P = unique_normalized_vertices(mesh, a.normalization);
   reduce_to_fundamental_periods(options, options.snap_to_vertices ? &P : nullptr, a);
-  RESTITCH_TRY(find_short_periods(mesh, options, a));
+  RESTITCH_TRY(find_short_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, a));
   return select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, a);
 }
 

@@ -19,6 +19,26 @@ struct PointSetAdaptor {
     return false;
   }
 };
+/// nanoflann result set (the findNeighbors contract): the nearest point whose squared distance is
+/// below `bound2`, none when there is none. The bound prunes the search: a query that lands in empty
+/// space visits a few nodes instead of descending to the nearest far-away point. Same answer as an
+/// unbounded one-nearest search whenever that one lies below the bound (the tree is traversed in the
+/// same order, a pruned branch holds no point below the bound, and the first of equal distances wins
+/// in both).
+struct NearestWithin {
+  float dist;
+  std::uint32_t index = 0;
+  bool found = false;
+  explicit NearestWithin(float bound2) : dist(bound2) {}
+  std::size_t size() const { return found ? 1 : 0; }
+  bool full() const { return found; }
+  float worstDist() const { return dist; }
+  bool addPoint(float d, std::uint32_t i) {  // a leaf offers every point below the worstDist() it began with
+    if (d < dist) dist = d, index = i, found = true;
+    return true;
+  }
+};
+
 using PointSetTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PointSetAdaptor>,
                                                          PointSetAdaptor, 3, std::uint32_t>;
 

@@ -70,6 +70,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -156,9 +157,9 @@ double periodic_reach(const PointSet& dense, const PointSetTree& tree, const Eig
   const auto matched = [&](Eigen::Index i, double sign) {
     const Eigen::Vector3d q = dense.points.row(i).cast<double>().transpose() + sign * period;
     const float qf[3] = {float(q[0]), float(q[1]), float(q[2])};
-    std::uint32_t idx = 0;
-    float d2 = 0;
-    return tree.knnSearch(qf, 1, &idx, &d2) == 1 && d2 <= tau2;
+    NearestWithin nearest(tau2 * (1 + 1e-4f) + std::numeric_limits<float>::min());  // bounded: a miss costs little
+    tree.findNeighbors(nearest, qf, nanoflann::SearchParams());
+    return nearest.found && nearest.dist <= tau2;
   };
   for (Eigen::Index i = 0; i < dense.points.rows(); ++i) {
     const double r = rel(i);

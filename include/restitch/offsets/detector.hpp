@@ -104,6 +104,7 @@
 #include "restitch/matcher/matcher.hpp"
 #include "restitch/offsets/histogram.hpp"
 #include "restitch/offsets/part.hpp"
+#include "restitch/offsets/principal.hpp"
 #include "restitch/offsets/refine.hpp"
 #include "restitch/offsets/test_record.hpp"
 #include "restitch/progress.hpp"
@@ -252,6 +253,14 @@ inline void significant_on_part(const SelfAligner& aligner, const OffsetEvidence
     DominantOffset& d = out[f.first];
     const OffsetCandidate& c = todo[f.second];
     if (c.seeds.empty() || d.votes < tests.min_votes) continue;
+    // An integer combination of significant offsets (a multiple, a diagonal) is a lattice vector of
+    // repeats already found: whatever its part says, the lattice holds it, so its part is not tested.
+    std::vector<Eigen::Vector3d> significant;
+    for (const DominantOffset& o : out)
+      if (o.significant) significant.push_back(o.offset);
+    const std::vector<Eigen::Vector3d> basis = independent_offsets(significant, radius);
+    if (!record_test(d.tests, "part_new", is_lattice_vector(d.offset, basis, nullptr, radius) ? 0.0 : 1.0, 1.0))
+      continue;
     d.part = test_on_part(aligner, c.start, d.offset, c.seeds, ev.tau, tests.min_overlap, tests.min_contrast,
                           tests.min_repeat_ratio, tests.max_double_drift, tests.part);
     d.tests.insert(d.tests.end(), d.part.tests.begin(), d.part.tests.end());

@@ -63,7 +63,8 @@
 //
 // Units: those of the aligner's points (normalized in the analysis).
 // Cost: per offset up to 3 (max_divisor - 1) overlap evaluations of
-// max_sources k-d tree queries each. Deterministic.
+// max_sources k-d tree queries each; with vertices, a vertex snap (O(#V), offsets/snap.hpp) of t and
+// of each divisor that passes the overlap tests, none when no divisor does. Deterministic.
 #pragma once
 
 #include <Eigen/Core>
@@ -110,8 +111,8 @@ inline FundamentalPeriod fundamental_period(const SelfAligner& aligner, const Ei
   const double min_length = options.min_length * aligner.options().spacing;
   if (!t.allFinite() || !(min_length > 0)) return best;
   const double radius = aligner.options().overlap_radius();
-  SnapResult exact;  // t's vertex pairs, when its vertices repeat
-  if (vertices) exact = snap_offset(*vertices, t, options.snap);
+  SnapResult exact;     // t's vertex pairs, when its vertices repeat
+  bool snapped = false;  // exact computed (only once a divisor passes the overlap tests: most offsets have none)
   for (bool found = true; found;) {  // each round divides the current best further
     found = false;
     const double len = best.offset.norm();
@@ -123,6 +124,7 @@ inline FundamentalPeriod fundamental_period(const SelfAligner& aligner, const Ei
       if (o < best.overlap - options.overlap_slack) continue;
       const double c = overlap_contrast(aligner, p, o);
       if (c < need_contrast) continue;
+      if (vertices && !snapped) exact = snap_offset(*vertices, t, options.snap), snapped = true;
       if (exact.snapped) {
         const SnapResult s = snap_offset(*vertices, p, options.snap);
         if (!s.snapped || s.pairs < exact.pairs) continue;

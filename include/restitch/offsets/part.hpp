@@ -72,7 +72,10 @@
 // The part test runs only for a candidate that fails the whole-surface
 // tests and that carries votes (the autocorrelation detector has none), so
 // it never changes what was significant before, and costs nothing on a
-// model whose repeats pass on the whole surface.
+// model whose repeats pass on the whole surface. Nor does it run on an
+// integer combination of offsets already significant (twice a period, a
+// diagonal): the lattice holds those whatever their part says (the test
+// `part_new`, recorded by offsets/detector.hpp).
 //
 // Units: normalized (those of the aligner). Deterministic: the part's
 // indices are sorted and thinned at an even stride like the aligner's own

@@ -40,6 +40,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <Eigen/QR>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -68,6 +69,42 @@ inline Eigen::Vector3d canonical_sign(const Eigen::Vector3d& v) {
 inline bool far_enough_apart(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double min_angle) {
   const double c = std::abs(a.dot(b)) / (a.norm() * b.norm());
   return c <= std::cos(min_angle) + 1e-12;
+}
+
+/// True when `v` is, within `tolerance`, a non-zero integer combination of the linearly independent
+/// `basis` (the principal offsets), or k times `other` for an integer |k| >= 1.
+inline bool is_lattice_vector(const Eigen::Vector3d& v, const std::vector<Eigen::Vector3d>& basis,
+                              const Eigen::Vector3d* other, double tolerance) {
+  if (other && other->squaredNorm() > 0) {
+    const double k = std::round(v.dot(*other) / other->squaredNorm());
+    if (std::abs(k) >= 1 && (v - k * *other).norm() <= tolerance) return true;
+  }
+  if (basis.empty()) return false;
+  Eigen::MatrixXd B(3, Eigen::Index(basis.size()));
+  for (std::size_t k = 0; k < basis.size(); ++k) B.col(Eigen::Index(k)) = basis[k];
+  const Eigen::VectorXd c = B.colPivHouseholderQr().solve(v).array().round().matrix();
+  return c.cwiseAbs().maxCoeff() >= 1 && (B * c - v).norm() <= tolerance;
+}
+
+/// A linearly independent subset of `offsets`, taken greedily in their order: each offset joins when
+/// it is longer than `tolerance` and farther than `tolerance` from the span of those already taken
+/// (at most three). A basis for is_lattice_vector.
+inline std::vector<Eigen::Vector3d> independent_offsets(const std::vector<Eigen::Vector3d>& offsets,
+                                                        double tolerance) {
+  std::vector<Eigen::Vector3d> basis;
+  for (const Eigen::Vector3d& v : offsets) {
+    if (basis.size() == 3 || !v.allFinite() || !(v.norm() > tolerance)) continue;
+    Eigen::Vector3d rest = v;  // v minus its projection on the span (Gram-Schmidt on the taken ones)
+    std::vector<Eigen::Vector3d> q;
+    for (const Eigen::Vector3d& b : basis) {
+      Eigen::Vector3d u = b;
+      for (const Eigen::Vector3d& e : q) u -= u.dot(e) * e;
+      q.push_back(u.normalized());
+    }
+    for (const Eigen::Vector3d& e : q) rest -= rest.dot(e) * e;
+    if (rest.norm() > tolerance) basis.push_back(v);
+  }
+  return basis;
 }
 
 /// Replaces each offset that is an integer multiple (|k| >= 2, within
