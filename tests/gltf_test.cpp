@@ -364,6 +364,18 @@ TEST_CASE("gltf: bad input gets an error that names the problem", "[gltf]") {
     REQUIRE_FALSE(m.ok());
     CHECK_THAT(m.status().message(), Catch::Contains("past the end"));
   }
+  SECTION("an absurd count over a small buffer is refused before anything is allocated") {
+    // 2^31 positions (48 GiB as doubles) declared over the quad's few bytes: a parse error, not
+    // std::bad_alloc (the count is checked against the bytes that are there first).
+    for (const std::int64_t count : {std::int64_t(1) << 31, (std::int64_t(1) << 31) - 1, std::int64_t(1000000)}) {
+      GltfBuilder b = good;
+      b.j["accessors"][0]["count"] = count;
+      auto m = load_text(b.gltf_text());
+      REQUIRE_FALSE(m.ok());
+      CHECK(m.status().code() == StatusCode::parse_error);
+      CHECK_THAT(m.status().message(), Catch::Contains("past the end"));
+    }
+  }
   SECTION("index out of range") {
     GltfBuilder b;
     const int q = restitch::test::add_quad_mesh(b, 4, false);

@@ -149,15 +149,19 @@ inline Status read_accessor(const tinygltf::Model& m, int index, std::vector<dou
     return gltf_error(StatusCode::unsupported, here, "is a matrix accessor, not a vertex attribute");
   const std::size_t count = a.count;
   if (count > (std::size_t(1) << 31)) return gltf_error(StatusCode::parse_error, here, "has an absurd count");
-  out.assign(count * components, 0.0);
-
+  // The data is located (and its size checked against the buffer) before anything is allocated: a
+  // count the file cannot hold is refused, never allocated.
   const std::size_t elem = std::size_t(components) * csize;
+  const unsigned char* base = nullptr;
+  std::size_t stride = elem;
   if (a.bufferView >= 0) {
     const tinygltf::BufferView& view =
         m.bufferViews.size() > std::size_t(a.bufferView) ? m.bufferViews[a.bufferView] : tinygltf::BufferView();
-    const std::size_t stride = view.byteStride ? view.byteStride : elem;
-    const unsigned char* base = nullptr;
+    stride = view.byteStride ? view.byteStride : elem;
     RESTITCH_TRY(locate_elements(m, here, a.bufferView, a.byteOffset, stride, elem, count, base));
+  }
+  out.assign(count * components, 0.0);
+  if (a.bufferView >= 0) {
     for (std::size_t i = 0; i < count; ++i)
       for (int c = 0; c < components; ++c)
         out[i * components + c] =
