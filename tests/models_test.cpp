@@ -45,7 +45,10 @@ const Expected kFound[] = {
 // pair slides onto the keys' common top plane, docs/method.md 1.6.1) and the
 // railing's scroll ornaments 7.925 (its bars' 16.00 is found as 15.85). The
 // pallet's stringers, the dresser's columns and the keyboard's octave are
-// candidates (kCandidates below).
+// candidates (kCandidates below). Mirror repeats are not translations: the
+// Japanese screen's panels fold in a zig-zag, and their two-panel translate
+// (89.07) overlaps 0.255 < 1/3 (README "Known limits"); window_4x5's leaves are
+// mirrored pairs of two widths.
 
 // Listed repeats reported as candidates (docs/method.md 1.10): the pattern test takes them for pairs
 // (two copies, or three whose third is drowned by parts that slide along the same direction).
