@@ -144,7 +144,9 @@ struct DominantOffset {
   /// made it significant (then `offset` is the part's refined offset).
   PartTest part;
   /// The significance tests in the order they ran: the whole-surface tests (the run stops at the
-  /// first failure), then, when the part test ran, its tests named "part_..." (offsets/part.hpp).
+  /// first failure), then, for a candidate with votes that failed them, "part_new" (1: not an integer
+  /// combination of significant offsets; 0, failed: one, so its part is not tested) and, when the
+  /// part test ran, its tests named "part_..." (offsets/part.hpp).
   std::vector<OffsetTest> tests;
   /// Made principal on request (promote_offsets, `--offsets`), whatever its tests say.
   bool promoted = false;
