@@ -97,8 +97,10 @@ inline Status locate_elements(const tinygltf::Model& m, const std::string& here,
     base = nullptr;
     return {};
   }
-  const std::size_t need = offset + stride * (n - 1) + elem;
-  if (view.byteOffset + view.byteLength > buf.data.size() || need > view.byteLength)
+  // In 64 bits: with a 32-bit size_t (WebAssembly) a declared count of 2^31 would wrap around.
+  const std::uint64_t need = std::uint64_t(offset) + std::uint64_t(stride) * std::uint64_t(n - 1) + std::uint64_t(elem);
+  if (std::uint64_t(view.byteOffset) + std::uint64_t(view.byteLength) > std::uint64_t(buf.data.size()) ||
+      need > std::uint64_t(view.byteLength))
     return gltf_error(StatusCode::parse_error, here,
                       "reads past the end of its data (needs " + std::to_string(need) + " bytes of bufferView " +
                           std::to_string(bv) + ", which has " + std::to_string(view.byteLength) + "; buffer " +
@@ -160,6 +162,8 @@ inline Status read_accessor(const tinygltf::Model& m, int index, std::vector<dou
     stride = view.byteStride ? view.byteStride : elem;
     RESTITCH_TRY(locate_elements(m, here, a.bufferView, a.byteOffset, stride, elem, count, base));
   }
+  if (std::uint64_t(count) * std::uint64_t(components) > std::uint64_t(out.max_size()))
+    return gltf_error(StatusCode::parse_error, here, "has a count too large for this machine");
   out.assign(count * components, 0.0);
   if (a.bufferView >= 0) {
     for (std::size_t i = 0; i < count; ++i)
