@@ -290,10 +290,7 @@ Status find_short_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
   tests.icp.spacing = h;
   std::unique_ptr<SelfAligner> coarse;  // built when some offset has a short divisor
   std::vector<std::pair<std::size_t, std::vector<int>>> todo;  // (dominant, divisors that pass the screen)
-  std::vector<Eigen::Vector3d> significant;
-  for (const DominantOffset& d : a.dominant)
-    if (d.significant) significant.push_back(d.offset);
-  const std::vector<Eigen::Vector3d> basis = independent_offsets(significant, tests.icp.overlap_radius());
+  const std::vector<Eigen::Vector3d> basis = significant_basis(a.dominant, tests.icp.overlap_radius());
   for (std::size_t i = 0; i < a.dominant.size(); ++i) {
     const DominantOffset& d = a.dominant[i];
     const double len = d.offset.norm();

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <nanoflann.hpp>
 
 #include "restitch/mesh.hpp"
@@ -30,6 +31,11 @@ struct NearestWithin {
   std::uint32_t index = 0;
   bool found = false;
   explicit NearestWithin(float bound2) : dist(bound2) {}
+  /// For a caller that keeps a point when its squared distance, recomputed in double, is at most
+  /// `max_d2`: the float bound widened by a relative 1e-4 so the float search never drops such a point.
+  static NearestWithin keeping(double max_d2) {
+    return NearestWithin(float(max_d2 * (1 + 1e-4)) + std::numeric_limits<float>::min());
+  }
   std::size_t size() const { return found ? 1 : 0; }
   bool full() const { return found; }
   float worstDist() const { return dist; }

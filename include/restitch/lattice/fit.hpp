@@ -70,7 +70,6 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <vector>
 
@@ -157,7 +156,7 @@ double periodic_reach(const PointSet& dense, const PointSetTree& tree, const Eig
   const auto matched = [&](Eigen::Index i, double sign) {
     const Eigen::Vector3d q = dense.points.row(i).cast<double>().transpose() + sign * period;
     const float qf[3] = {float(q[0]), float(q[1]), float(q[2])};
-    NearestWithin nearest(tau2 * (1 + 1e-4f) + std::numeric_limits<float>::min());  // bounded: a miss costs little
+    NearestWithin nearest = NearestWithin::keeping(tau2);  // bounded: a miss costs little
     tree.findNeighbors(nearest, qf, nanoflann::SearchParams());
     return nearest.found && nearest.dist <= tau2;
   };

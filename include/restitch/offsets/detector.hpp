@@ -166,6 +166,15 @@ struct DominantOffset {
   }
 };
 
+/// A basis of the lattice the significant offsets of `offsets` span (independent_offsets,
+/// offsets/principal.hpp), for is_lattice_vector with the same `tolerance`.
+inline std::vector<Eigen::Vector3d> significant_basis(const std::vector<DominantOffset>& offsets, double tolerance) {
+  std::vector<Eigen::Vector3d> significant;
+  for (const DominantOffset& o : offsets)
+    if (o.significant) significant.push_back(o.offset);
+  return independent_offsets(significant, tolerance);
+}
+
 /// A detector's answer.
 struct OffsetDetection {
   std::vector<DominantOffset> dominant;  ///< ranked, strongest first
@@ -257,10 +266,7 @@ inline void significant_on_part(const SelfAligner& aligner, const OffsetEvidence
     if (c.seeds.empty() || d.votes < tests.min_votes) continue;
     // An integer combination of significant offsets (a multiple, a diagonal) is a lattice vector of
     // repeats already found: whatever its part says, the lattice holds it, so its part is not tested.
-    std::vector<Eigen::Vector3d> significant;
-    for (const DominantOffset& o : out)
-      if (o.significant) significant.push_back(o.offset);
-    const std::vector<Eigen::Vector3d> basis = independent_offsets(significant, radius);
+    const std::vector<Eigen::Vector3d> basis = significant_basis(out, radius);  // grows as parts pass
     if (!record_test(d.tests, "part_new", is_lattice_vector(d.offset, basis, nullptr, radius) ? 0.0 : 1.0, 1.0))
       continue;
     d.part = test_on_part(aligner, c.start, d.offset, c.seeds, ev.tau, tests.min_overlap, tests.min_contrast,

@@ -63,7 +63,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <limits>
 #include <memory>
 #include <nanoflann.hpp>
 #include <vector>
@@ -207,14 +206,13 @@ class SelfAligner {
   }
 
   // Nearest point of c to point i + t, if it lies within sqrt(max_d2) and its normal agrees with
-  // point i's. The bound only prunes the search (every caller rejects a farther partner): it is
-  // widened by a relative 1e-4 so that the float search never drops a point the double check keeps.
+  // point i's. The bound only prunes the search (every caller rejects a farther partner).
   static bool partner(const Cloud& c, std::uint32_t i, const Eigen::Vector3d& t, std::uint32_t& j, double& d2,
                       double normal_cosine, double max_d2) {
     const PointSet& s = *c.set;
     const Eigen::Vector3d q = s.points.row(i).cast<double>().transpose() + t;
     const float qf[3] = {float(q.x()), float(q.y()), float(q.z())};
-    detail::NearestWithin rs(float(max_d2 * (1 + 1e-4)) + std::numeric_limits<float>::min());
+    detail::NearestWithin rs = detail::NearestWithin::keeping(max_d2);
     c.tree->findNeighbors(rs, qf, nanoflann::SearchParams());
     if (!rs.found) return false;
     const std::uint32_t idx = rs.index;
