@@ -369,19 +369,18 @@ class Session {
       }
     if (over.empty()) return flag;
     const Eigen::Matrix3d Ainv = r.grid.A.inverse();
-    const CellGrid out(rep.cells_out);
     double width[3];
     for (int a = 0; a < 3; ++a) width[a] = 2 * rep.sample_spacing * Ainv.row(a).norm();
     for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
       Eigen::Vector3d c = Eigen::Vector3d::Zero();
       for (int corner = 0; corner < 3; ++corner) c += m.V.row(m.F(f, corner)).cast<double>().transpose() / 3.0;
       const Eigen::Vector3d t = Ainv * (c - r.grid.origin);
-      const Eigen::Array3i cell = out.cell_of(t);
+      const Eigen::Array3i cell = rep.cell_of(t);  // with the seams' planes as they lie (method.md 2.9)
       for (int a = 0; a < 3 && !flag[std::size_t(f)]; ++a)
         for (int side = -1; side <= 1; side += 2) {
           Eigen::Array3i n = cell;
           n[a] += side;
-          const double plane = cell[a] + (side > 0 ? 1 : 0);
+          const double plane = rep.plane(a, cell[a] + (side > 0 ? 1 : 0));
           const double gap = side > 0 ? plane - t[a] : t[a] - plane;  // negative beyond the plane (overhang)
           if (gap <= width[a] && over.count({cell[0], cell[1], cell[2], n[0], n[1], n[2]})) {
             flag[std::size_t(f)] = 1;

@@ -156,7 +156,25 @@ TEST_CASE("retarget_json: keys and values of a hand-made report", "[json]") {
   r.size_in = {1, 2, 3};
   r.size_out = {1.5, 2, 2.25};
   r.timings_ms = {{"energy", 0.5}, {"solve", 1.25}, {"stitch", 2}, {"total", 4}};
+  r.plane_offsets[0] = {0, 0, 0.3125, 0, 0, 0, 0, 0, 0};
+  r.seams_moved = 1;
+  restitch::SeamReport seam;
+  seam.cell_a = {1, 0, 0};
+  seam.cell_b = {2, 0, 0};
+  seam.offset = 0.3125;
+  r.seams.push_back(seam);
   const json j = restitch::retarget_json(r);
+  CHECK(j["seams_moved"].get<int>() == 1);
+  REQUIRE(j["plane_offsets"].size() == 3);
+  CHECK(j["plane_offsets"][0].size() == 9);
+  CHECK(j["plane_offsets"][0][2].get<double>() == 0.3125);
+  CHECK(j["plane_offsets"][1].empty());
+  CHECK(j["seams"][0]["offset"].get<double>() == 0.3125);
+  CHECK(r.plane(0, 2) == 2.3125);
+  CHECK(r.plane(1, 1) == 1.0);
+  CHECK((r.cell_of({2.2, 0.5, 0.5}) == Eigen::Array3i(1, 0, 0)).all());  // before the moved plane
+  CHECK((r.cell_of({2.4, 0.5, 0.5}) == Eigen::Array3i(2, 0, 0)).all());
+  CHECK((r.cell_of({-3, 9, 1.5}) == Eigen::Array3i(0, 1, 1)).all());     // clamped
   check_arr3(j["steps"], r.steps);
   check_arr3(j["grid_steps"], r.grid_steps);
   check_arr3(j["cells_in"], r.cells_in);

@@ -9,6 +9,8 @@
 #include "restitch/io/json_report.hpp"
 #include "restitch/restitch.hpp"
 #include "support/boundary_length.hpp"
+#include "support/components.hpp"
+#include "support/mesh_builders.hpp"
 #include "support/surface_distance.hpp"
 
 using namespace restitch;
@@ -502,4 +504,107 @@ TEST_CASE("retarget: every seam is measured on the geometry and reported; one ov
   REQUIRE(!b->report.warnings.empty());
   CHECK(b->report.max_seam_mismatch == bad.slabs().empty_mismatch());
   CHECK(b->report.warnings[0].find("the end of the model") != std::string::npos);
+}
+
+namespace {
+// A row of 6 posts (pitch 1, at k + 0.5) on a rail, with a plaque of width 0.4 centred on every integer
+// x, each at its own height: nothing repeats across an integer plane, but the copies of the row one
+// period apart continue each other between a plaque and a post (relative x 0.28 to 0.37 and 0.63 to
+// 0.72, a sample spacing being about 0.06).
+Mesh plaque_row() {
+  Mesh m;
+  test::add_box(m, {-0.2, -0.1, 0}, {6.2, 0, 0.1});
+  for (int k = 0; k < 6; ++k) test::add_box(m, {k + 0.45, 0.05, 0}, {k + 0.55, 1.0, 0.1});
+  for (int k = 0; k <= 6; ++k) test::add_box(m, {k - 0.2, 1.1 + 0.15 * k, 0}, {k + 0.2, 1.2 + 0.15 * k, 0.1});
+  return m;
+}
+}  // namespace
+
+TEST_CASE("retarget: a seam moves off its cell plane to where the two copies continue each other, so no part is "
+          "cut (docs/method.md 2.9)",
+          "[retarget]") {
+  const Mesh m = plaque_row();
+  Result<Analysis> found = analyze(m);
+  REQUIRE(found.ok());
+  REQUIRE(found->principal.size() == 1);
+  const int a = axis_of(found->lattice, Eigen::Vector3d::UnitX());
+  REQUIRE(a >= 0);
+  REQUIRE(std::abs(found->lattice.A.col(a).norm() - 1.0) < 1e-3);
+  const auto is_rail = [](const test::Piece& p) { return p.lo.y() < -0.05; };
+  const std::vector<test::Piece> pieces_in = test::welded_components(m);
+
+  SECTION("with the analysis' own grid phase the seams already continue: moving changes nothing") {
+    for (const int steps : {1, 2, -1}) {
+      Eigen::Array3i k = Eigen::Array3i::Zero();
+      k[a] = steps;
+      RetargetOptions on, off;
+      off.move_seams = false;
+      Retargeter<> r_on(m, *found, on), r_off(m, *found, off);
+      Result<RetargetResult> x = r_on.retarget(k), y = r_off.retarget(k);
+      REQUIRE(x.ok());
+      REQUIRE(y.ok());
+      CHECK(x->report.seams_moved == 0);
+      CHECK(x->mesh.V == y->mesh.V);
+      CHECK(x->mesh.F == y->mesh.F);
+      CHECK(test::unmatched_pieces(test::welded_components(x->mesh), pieces_in, 1e-3, is_rail) == 0);
+    }
+  }
+
+  SECTION("with every cell plane on a plaque, the seams on cell planes cut plaques and the moved ones do not") {
+    Analysis an = *found;  // planes at the integers: every one crosses a plaque
+    an.lattice.origin[0] = 0;
+    an.lattice.cells[a] = 6;
+    an.lattice.end_low[a] = 0;
+    an.lattice.end_high[a] = 1;
+    // The candidates of the seam between the copy of input cell 2 and the copy one period on, in the
+    // row of the plaque at x = 3 (known answer).
+    CellSlabs slabs(an, an.lattice);
+    Eigen::Array3i s = CellGrid(an.lattice.cells).cell_of(an.lattice.to_canonical({2.5, 1.6, 0.05}));
+    Eigen::Array3i delta = Eigen::Array3i::Zero();
+    s[a] = 2;
+    delta[a] = 1;
+    const CellSlabs::SeamPositions& p = slabs.seam_positions(s, a, delta, 16);
+    REQUIRE(p.fail.size() == 15);
+    for (int j = -7; j <= 7; ++j) {
+      INFO("position " << j << "/16: fail " << p.fail[std::size_t(j + 7)] << ", cut " << p.cut[std::size_t(j + 7)]);
+      CHECK(p.valid[std::size_t(j + 7)]);
+      if (std::abs(j) <= 3) CHECK(p.fail[std::size_t(j + 7)] > 0);         // the plaques at 0 +- 0.2
+      if (std::abs(j) >= 5) CHECK(p.fail[std::size_t(j + 7)] == 0);        // between a plaque and a post
+      if (std::abs(j) <= 3) CHECK(p.cut[std::size_t(j + 7)] >= p.fail[std::size_t(j + 7)]);
+    }
+    for (const int steps : {1, 2}) {
+      INFO("steps " << steps);
+      Eigen::Array3i k = Eigen::Array3i::Zero();
+      k[a] = steps;
+      RetargetOptions on, off;
+      off.move_seams = false;
+      Retargeter<> r_on(m, an, on), r_off(m, an, off);
+      Result<RetargetResult> x = r_on.retarget(k), y = r_off.retarget(k);
+      REQUIRE(x.ok());
+      REQUIRE(y.ok());
+      // On cell planes some plaque is cut (or spliced from two): the test means something.
+      REQUIRE(test::unmatched_pieces(test::welded_components(y->mesh), pieces_in, 1e-3, is_rail) > 0);
+      CHECK(y->report.seams_moved == 0);
+      CHECK(x->report.seams_moved > 0);
+      CHECK(test::unmatched_pieces(test::welded_components(x->mesh), pieces_in, 1e-3, is_rail) == 0);
+      // The rail is one piece, one period longer per step; the row has 6 + steps posts.
+      int rails = 0, posts = 0;
+      for (const test::Piece& c : test::welded_components(x->mesh)) {
+        if (is_rail(c)) {
+          ++rails;
+          CHECK(c.size().x() == Approx(6.4 + steps).margin(1e-3));
+        }
+        posts += std::abs(c.size().y() - 0.95) < 1e-3;
+      }
+      CHECK(rails == 1);
+      CHECK(posts == 6 + steps);
+      // Every moved seam lies off its cell plane and is measured there.
+      for (const SeamReport& seam : x->report.seams)
+        if (!seam.outer) {
+          CHECK(seam.offset != 0);
+          CHECK(seam.mismatch <= x->report.seam_tolerance);
+        }
+      CHECK(x->report.plane_offsets[std::size_t(a)].size() == std::size_t(x->report.cells_out[a] + 1));
+    }
+  }
 }

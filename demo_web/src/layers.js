@@ -123,7 +123,8 @@ function seamsOver(result) {
   return over;
 }
 
-// The seam faces as flat arrays: every face shared by two 6-neighbour output cells with different labels,
+// The seam faces as flat arrays: every face shared by two 6-neighbour output cells with different labels
+// (where the seam's plane lies),
 // as triangles (quads) and as outlines (lines), in model units; those of seams over the tolerance (and the
 // ends copied from elsewhere that are) in `badQuads` instead.
 export function seamFaces(result) {
@@ -135,6 +136,9 @@ export function seamFaces(result) {
   const quads = [], lines = [], badQuads = [];
   const over = seamsOver(result);
   const at = (i, j, k) => labels[i + U * (j + V * k)];
+  // A seam's plane may lie off its cell plane (report.plane_offsets, docs/method.md 2.9).
+  const offsets = result.report.plane_offsets || [[], [], []];
+  const offset = (a, i) => (offsets[a] && offsets[a].length ? offsets[a][i] : 0);
   const dims = [U, V, W];
   for (let k = 0; k < W; ++k) for (let j = 0; j < V; ++j) for (let i = 0; i < U; ++i) {
     const x = [i, j, k];
@@ -160,7 +164,7 @@ export function seamFaces(result) {
       if (y[a] >= dims[a] || at(...x) === at(...y)) continue;
       const b = (a + 1) % 3, c = (a + 2) % 3;
       const corners = [[0, 0], [1, 0], [1, 1], [0, 1]].map(([s, t]) => {
-        const q = x.slice(); q[a] += 1; q[b] += s; q[c] += t;
+        const q = x.slice(); q[a] += 1 + offset(a, y[a]); q[b] += s; q[c] += t;
         return toModel(q);
       });
       const target = over.has(`${x}|${y}`) ? badQuads : quads;

@@ -27,7 +27,7 @@ namespace {
 
 struct ResizeArgs {
   std::string input, output, json, dump_mrf, labels = "lattice", pivot = "origin", seam_energy = "descriptor";
-  bool exact = false, strict = false;
+  bool exact = false, strict = false, seams_on_cells = false;
   double seam_tolerance = 0;
   PolicyNames policies;
   std::vector<int> steps;
@@ -98,6 +98,9 @@ void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen
   if (worst)
     std::printf(" between cells (%d,%d,%d) and (%d,%d,%d)%s", worst->cell_a[0], worst->cell_a[1], worst->cell_a[2],
                 worst->cell_b[0], worst->cell_b[1], worst->cell_b[2], worst->outer ? " (the end)" : "");
+  if (rep.seams_moved > 0)
+    std::printf("\n  seam planes moved off their cell planes: %d (to where the copies continue each other)",
+                rep.seams_moved);
   std::printf("\n  wrote %s: %zu triangles in, %zu out\n", args.output.c_str(), rep.triangles_in, rep.triangles_out);
   std::printf("  boundary edges (positions welded): %zu in, %zu out\n", rep.boundary_edges_in, rep.boundary_edges_out);
 }
@@ -125,6 +128,7 @@ int run_resize(const ResizeArgs& args) {
   options.max_problem_size = args.max_problem;
   options.pivot = *pivots;
   options.seam_tolerance = args.seam_tolerance;
+  options.move_seams = !args.seams_on_cells;
   if (!parse_seam_energy(args.seam_energy, options.seam_energy)) return exit_usage;  // CLI11 checked it
   options.boundary_edges = true;  // the summary and the JSON report print them
   AnyRetargeter r(mesh, *a, args.labels, options);
@@ -197,6 +201,9 @@ void register_resize(CLI::App& app, int* exit_code) {
                   "warn about seams mismatching by more than this (model units; 0: 3 x the sample spacing)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  cmd->add_flag("--seams-on-cells", args->seams_on_cells,
+                "keep every seam on a cell plane, as the paper does (by default a seam moves within half a cell to "
+                "where the two copies continue each other)");
   cmd->add_flag("--strict", args->strict,
                 "exit 7 when a seam mismatches by more than the tolerance (the output is still written)");
   cmd->add_option("--max-problem", args->max_problem, "refuse requests with more nodes x labels than this")

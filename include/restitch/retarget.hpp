@@ -79,6 +79,11 @@ struct RetargetOptions {
   /// hash look-up per vertex, several times the stitch itself (bench: 57 ms at 28k triangles on the
   /// loaded 2-core machine, against a 2 ms stitch), too slow for a live slider. The CLI turns it on.
   bool boundary_edges = false;
+  /// Let a seam leave its cell plane (docs/method.md 2.9): after the labels are solved, each plane between
+  /// output cells where copies meet moves, within half a cell, to where the two copies continue each other
+  /// (when they do not at the cell plane), so a part longer than the cut's neighbourhood is not cut when
+  /// an uncut position exists. Off: every seam on a cell plane, as in the paper.
+  bool move_seams = true;
 };
 
 /// One seam of an output: two neighbouring output cells (sharing a face) with different labels, or an
@@ -89,6 +94,7 @@ struct SeamReport {
   Eigen::Array3i label_a = Eigen::Array3i::Zero(), label_b = Eigen::Array3i::Zero();  ///< their shifts d
   double mismatch = 0;  ///< model units: min of the slab mismatches on either side (docs/method.md 2.8)
   bool outer = false;   ///< cell_b lies outside the output (an anchored end)
+  double offset = 0;    ///< inner seams: where the cut lies, in cells from the face of cell_a toward cell_b (2.9)
 };
 
 struct RetargetReport {
@@ -122,6 +128,30 @@ struct RetargetReport {
   double sample_spacing = 0;  ///< model units (CellSlabs::spacing)
   /// Seams over the tolerance, one sentence each ("seam between cells ... mismatches by ..."); empty when fine.
   std::vector<std::string> warnings;
+  /// Where the planes between output cells lie (docs/method.md 2.9): plane_offsets[a][i], i = 0 ..
+  /// cells_out[a], in cells from cell plane i along lattice axis a (0: on it; within +-1/2). Empty when
+  /// no plane moved; seams_moved counts the planes that did.
+  std::array<std::vector<double>, 3> plane_offsets;
+  int seams_moved = 0;
+
+  /// The plane between output cells i - 1 and i along lattice axis a as it lies (canonical units of the
+  /// output grid: i plus its offset).
+  double plane(int a, int i) const {
+    const std::vector<double>& o = plane_offsets[std::size_t(a)];
+    return double(i) + (o.empty() ? 0.0 : o[std::size_t(i)]);
+  }
+  /// The output cell holding canonical point t of the output grid (clamped into it), with the planes as
+  /// they lie.
+  Eigen::Array3i cell_of(const Eigen::Vector3d& t) const {
+    Eigen::Array3i x;
+    for (int a = 0; a < 3; ++a) {
+      int i = std::clamp(int(std::floor(t[a])), 0, cells_out[a] - 1);
+      if (i + 1 < cells_out[a] && t[a] >= plane(a, i + 1)) ++i;  // offsets lie within half a cell
+      else if (i > 0 && t[a] < plane(a, i)) --i;
+      x[a] = i;
+    }
+    return x;
+  }
 };
 
 struct RetargetResult {
@@ -148,6 +178,25 @@ using stitch_cache_t = typename stitch_cache<S>::type;
 }  // namespace detail
 
 namespace detail {
+/// The planes between output cells as they lie after seams moved (docs/method.md 2.9): plane i along
+/// axis a at i + j[a][i] / K, |j| < K / 2 (so a cell keeps at least 2 / K of its width), j[a] empty when
+/// no plane of axis a moved.
+struct MovedPlanes {
+  static constexpr int K = 16;
+  std::array<std::vector<int>, 3> j;
+
+  bool moved(int a) const { return !j[std::size_t(a)].empty(); }
+  bool any() const { return moved(0) || moved(1) || moved(2); }
+  /// The same for the s-th K-th of a cell (s = 0 .. K cells - 1) along a moved axis.
+  int cell_of_part(int a, int s, int cells) const {
+    const std::vector<int>& J = j[std::size_t(a)];
+    const int i = s / K;
+    if (i + 1 < cells && s >= (i + 1) * K + J[std::size_t(i + 1)]) return i + 1;
+    if (i > 0 && s < i * K + J[std::size_t(i)]) return i - 1;
+    return i;
+  }
+};
+
 inline std::string format_size(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", x);
@@ -275,15 +324,28 @@ class Retargeter {
 
     if (!progress.report("stitching", 0.0)) return error(StatusCode::cancelled, "cancelled");
     t = clock::now();
+    const detail::MovedPlanes planes = move_seams(k, rep.cells_out, shift);
+    rep.timings_ms["seam planes"] = ms_since(t);
+    t = clock::now();
     StitchReport st;
-    if constexpr (has_prepared_stitch_v<Stitcher>) {
+    if (planes.any()) {
+      RESTITCH_TRY(stitch_moved(rep.cells_out, shift, planes, out.mesh, st));
+    } else if constexpr (has_prepared_stitch_v<Stitcher>) {
       RESTITCH_TRY(stitcher_.stitch(cache_, rep.cells_out, shift, out.mesh, st));
     } else {
       RESTITCH_TRY(stitcher_.stitch(*mesh_, grid_, rep.cells_out, shift, out.mesh, st));
     }
     rep.timings_ms["stitch"] = ms_since(t);
+    for (int a = 0; a < 3; ++a)
+      if (planes.moved(a)) {
+        rep.plane_offsets[std::size_t(a)].clear();
+        for (const int j : planes.j[std::size_t(a)]) {
+          rep.plane_offsets[std::size_t(a)].push_back(double(j) / planes.K);
+          rep.seams_moved += j != 0;
+        }
+      }
     t = clock::now();
-    measure_seams(k, rep.cells_out, shift, rep);
+    measure_seams(k, rep.cells_out, shift, planes, rep);
     rep.timings_ms["seams"] = ms_since(t);
     rep.regions = st.regions;
     rep.triangles_out = out.mesh.triangle_count();
@@ -293,7 +355,7 @@ class Retargeter {
       rep.boundary_edges_out = boundary_edge_count(out.mesh);
       rep.timings_ms["boundary"] = ms_since(t);
     }
-    if (options_.face_labels) out.face_labels = face_labels(out.mesh, CellGrid(rep.cells_out), labelling);
+    if (options_.face_labels) out.face_labels = face_labels(out.mesh, rep, labelling);
     // Placement: whole periods, so that the pivot stays put (placement.hpp).
     rep.placement = place(analysis_->lattice, box_in_, rep.steps, options_.pivot);
     translate(out.mesh, rep.placement.translation);
@@ -450,7 +512,7 @@ class Retargeter {
   // and anchor d' (outer seam, where the stitcher puts an end cap): the cells x - d and x - d' compared
   // on either side of the end plane (Lattice::end_low / end_high; CellSlabs::plane_mismatch).
   void measure_seams(const Eigen::Array3i& k, const Eigen::Array3i& cells_out, const std::vector<Eigen::Array3i>& shift,
-                     RetargetReport& rep) {
+                     const detail::MovedPlanes& planes, RetargetReport& rep) {
     const CellGrid out(cells_out);
     rep.seam_energy = options_.seam_energy;
     rep.sample_spacing = slabs_->spacing();
@@ -466,8 +528,14 @@ class Retargeter {
         seam.mismatch = slabs_->plane_mismatch(x - di, x - dj, a, f);
       } else {  // the plane between x and y, seen from either pair of sources
         const int a = e[0] != 0 ? 0 : e[1] != 0 ? 1 : 2;
-        seam.mismatch = std::min(slabs_->plane_mismatch(x - di, x - dj, a, 1.0),
-                                 slabs_->plane_mismatch(y - di, y - dj, a, 0.0));
+        const int j = planes.moved(a) ? planes.j[std::size_t(a)][std::size_t(y[a])] : 0;
+        seam.offset = double(j) / planes.K;
+        if (j == 0)
+          seam.mismatch = std::min(slabs_->plane_mismatch(x - di, x - dj, a, 1.0),
+                                   slabs_->plane_mismatch(y - di, y - dj, a, 0.0));
+        else  // the cut lies inside y (j > 0) or inside x (j < 0): that cell's two sources there
+          seam.mismatch = j > 0 ? slabs_->plane_mismatch(y - di, y - dj, a, seam.offset)
+                                : slabs_->plane_mismatch(x - di, x - dj, a, 1.0 + seam.offset);
       }
       rep.max_seam_mismatch = std::max(rep.max_seam_mismatch, seam.mismatch);
       rep.seams.push_back(seam);
@@ -504,17 +572,117 @@ class Retargeter {
            " mismatches by " + format_size(s.mismatch) + " model units (tolerance " + format_size(tolerance) + ")";
   }
 
-  // The label of the output cell each face's centroid lies in.
-  std::vector<int> face_labels(const Mesh& m, const CellGrid& out, const std::vector<int>& labelling) const {
+  // The label of the output cell each face's centroid lies in (with the planes as they lie).
+  std::vector<int> face_labels(const Mesh& m, const RetargetReport& rep, const std::vector<int>& labelling) const {
+    const CellGrid out(rep.cells_out);
     std::vector<int> fl(m.triangle_count(), 0);
     const Eigen::Matrix3d Ainv = grid_.A.inverse();
     for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
       Eigen::Vector3d c = Eigen::Vector3d::Zero();
       for (int corner = 0; corner < 3; ++corner)
         for (int i = 0; i < 3; ++i) c[i] += double(m.V(m.F(f, corner), i)) / 3.0;
-      fl[std::size_t(f)] = labelling[std::size_t(out.index(out.cell_of(Ainv * (c - grid_.origin))))];
+      fl[std::size_t(f)] = labelling[std::size_t(out.index(rep.cell_of(Ainv * (c - grid_.origin))))];
     }
     return fl;
+  }
+
+  // Where the seams go (docs/method.md 2.9). Per plane i (1 .. cells_out[a] - 1) of each axis a where
+  // output cells with different labels meet: the seams across it ask CellSlabs::seam_positions for
+  // every position within half a cell; the plane stays on the cell plane when no sample there fails to
+  // continue, and otherwise moves to the valid position with the fewest such samples (then the fewest
+  // samples cut, then the nearest the cell plane, then the lower), only when that is fewer than on the
+  // cell plane. A plane stays put when a cell on either side of it meets a different label along
+  // another axis (moving it would change those seams, which were not measured), and every plane stays
+  // when an output end is copied from elsewhere (its end cap is cut at the lattice's end plane, in
+  // whole cells).
+  detail::MovedPlanes move_seams(const Eigen::Array3i& k, const Eigen::Array3i& cells_out,
+                                 const std::vector<Eigen::Array3i>& shift) {
+    detail::MovedPlanes planes;
+    if (!options_.move_seams) return planes;
+    const CellGrid out(cells_out);
+    const auto label = [&](const Eigen::Array3i& x) -> const Eigen::Array3i& { return shift[std::size_t(out.index(x))]; };
+    for (std::int64_t xi = 0; xi < out.size(); ++xi) {  // an end copied from elsewhere: end caps, keep cells
+      const Eigen::Array3i x = out.cell(xi);
+      for (int a = 0; a < 3; ++a) {
+        if (x[a] == 0 && shift[std::size_t(xi)][a] != 0) return planes;
+        if (x[a] == out.dims[a] - 1 && shift[std::size_t(xi)][a] != k[a]) return planes;
+      }
+    }
+    constexpr int K = detail::MovedPlanes::K, H = K / 2 - 1;
+    for (int a = 0; a < 3; ++a)
+      for (int i = 1; i < cells_out[a]; ++i) {
+        std::vector<std::int64_t> fail(2 * H + 1, 0), cut(2 * H + 1, 0);
+        std::vector<char> valid(2 * H + 1, 1);
+        bool seam = false, blocked = false;
+        for (std::int64_t xi = 0; xi < out.size() && !blocked; ++xi) {
+          const Eigen::Array3i x = out.cell(xi);
+          if (x[a] != i - 1) continue;
+          Eigen::Array3i y = x;
+          y[a] = i;
+          for (const Eigen::Array3i& z : {x, y})
+            for (int b = 0; b < 3; ++b)
+              for (const int step : {-1, 1}) {
+                Eigen::Array3i n = z;
+                n[b] += step;
+                if (b != a && out.inside(n) && (label(n) != label(z)).any()) blocked = true;
+              }
+          const Eigen::Array3i &di = label(x), &dj = label(y);
+          if ((di == dj).all()) continue;
+          seam = true;
+          const CellSlabs::SeamPositions& p = slabs_->seam_positions(x - di, a, dj - di, K);
+          for (std::size_t q = 0; q < valid.size(); ++q) {
+            fail[q] += p.fail[q];
+            cut[q] += p.cut[q];
+            valid[q] = char(valid[q] && p.valid[q]);
+          }
+        }
+        if (!seam || blocked || !valid[H] || fail[H] == 0) continue;
+        int best = H;
+        const auto key = [&](int q) { return std::make_tuple(fail[std::size_t(q)], cut[std::size_t(q)], std::abs(q - H), q); };
+        for (int q = 0; q <= 2 * H; ++q)
+          if (valid[std::size_t(q)] && fail[std::size_t(q)] < fail[H] && key(q) < key(best)) best = q;
+        if (best == H) continue;
+        if (!planes.moved(a)) planes.j[std::size_t(a)].assign(std::size_t(cells_out[a]) + 1, 0);
+        planes.j[std::size_t(a)][std::size_t(i)] = best - H;
+      }
+    return planes;
+  }
+
+  // Stitches a labelling whose planes moved: on the grid K times finer along the moved axes (each
+  // K-th of a cell takes the label of the output cell it now lies in, shifts scaled by K), so the
+  // stitcher cuts at the moved planes. Its prepared cache is built once per set of moved axes.
+  Status stitch_moved(const Eigen::Array3i& cells_out, const std::vector<Eigen::Array3i>& shift,
+                      const detail::MovedPlanes& planes, Mesh& mesh, StitchReport& st) {
+    Eigen::Array3i f = Eigen::Array3i::Ones();
+    int mask = 0;
+    for (int a = 0; a < 3; ++a)
+      if (planes.moved(a)) f[a] = planes.K, mask |= 1 << a;
+    Lattice fine = grid_;
+    for (int a = 0; a < 3; ++a)
+      if (f[a] > 1) {
+        fine.A.col(a) /= f[a];
+        fine.cells[a] *= f[a];
+        fine.end_low[a] = 0, fine.end_high[a] = 1;  // no end caps here (move_seams)
+      }
+    const CellGrid out(cells_out), parts(cells_out * f);
+    std::vector<Eigen::Array3i> fine_shift(std::size_t(parts.size()));
+    for (std::int64_t q = 0; q < parts.size(); ++q) {
+      const Eigen::Array3i c = parts.cell(q);
+      Eigen::Array3i x;
+      for (int a = 0; a < 3; ++a) x[a] = f[a] > 1 ? planes.cell_of_part(a, c[a], cells_out[a]) : c[a];
+      fine_shift[std::size_t(q)] = shift[std::size_t(out.index(x))] * f;
+    }
+    if constexpr (has_prepared_stitch_v<Stitcher>) {
+      auto it = fine_caches_.find(mask);
+      if (it == fine_caches_.end()) {
+        detail::stitch_cache_t<Stitcher> cache;
+        RESTITCH_TRY(stitcher_.prepare(*mesh_, fine, cache));
+        it = fine_caches_.emplace(mask, std::move(cache)).first;
+      }
+      return stitcher_.stitch(it->second, parts.dims, fine_shift, mesh, st);
+    } else {
+      return stitcher_.stitch(*mesh_, fine, parts.dims, fine_shift, mesh, st);
+    }
   }
 
   const Mesh* mesh_;
@@ -528,6 +696,7 @@ class Retargeter {
   std::unique_ptr<CellDescriptors> cells_;
   std::unique_ptr<CellSlabs> slabs_;
   detail::stitch_cache_t<Stitcher> cache_;  // the stitcher's prepared cache, when it has one
+  std::map<int, detail::stitch_cache_t<Stitcher>> fine_caches_;  // the same K times finer, per mask of moved axes
   Eigen::Vector3d size_in_ = Eigen::Vector3d::Zero();
   BoundingBox box_in_;
   std::size_t boundary_edges_in_ = 0;

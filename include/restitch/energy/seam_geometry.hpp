@@ -44,6 +44,7 @@
 #include <cstdint>
 #include <nanoflann.hpp>
 #include <map>
+#include <memory>
 #include <string>
 #include <tuple>
 #include <unordered_map>
@@ -209,6 +210,69 @@ class CellSlabs {
     return d;
   }
 
+  /// Where a seam can lie (docs/method.md 2.9): output cells x and y = x + e_a copied with shifts di and
+  /// dj, given as the input cell s = x - di and the shift difference delta = dj - di. Candidate planes
+  /// t_j = 1 + j / K along a, in cells from x's lower plane, j = -J .. J with J = K / 2 - 1 (K >= 4).
+  /// Near a cut at t the result holds x's copy below t and y's from t on. A sample of the input that
+  /// lands within one sample spacing below t from x's copy, or from t on from y's, is *continued* when
+  /// the input has a sample within 1.5 spacings of it moved by the shift difference (toward the other
+  /// copy's source): the other copy has surface there too (1.5 spacings: the match distance of the
+  /// end planes' periodic part, lattice/fit.hpp). fail[j + J] counts the samples near t_j that are not
+  /// continued, cut[j + J] all samples near t_j (the surface the cut crosses), valid[j + J] whether
+  /// both copies exist there: t > 1 needs input cell y - di = s + e_a, t < 1 needs x - dj = s - delta
+  /// (s and s + e_a - delta, the copies' own cells, must lie in the input, else nothing is valid).
+  /// Cells are clamped as in the stitcher. Cached per (s, a, delta, K). Cost of a new one: O(n (log N
+  /// + J)) for the n samples of those four cells (a k-d tree over all N samples, built on first use).
+  struct SeamPositions {
+    std::vector<int> fail, cut;
+    std::vector<char> valid;
+  };
+  const SeamPositions& seam_positions(const Eigen::Array3i& s, int a, const Eigen::Array3i& delta, int K) {
+    const auto key = std::make_tuple(grid_.inside(s) ? grid_.index(s) : -1, a, delta[0], delta[1], delta[2], K);
+    const auto hit = positions_cache_.find(key);
+    if (hit != positions_cache_.end()) return hit->second;
+    SeamPositions& out = positions_cache_[key];
+    const int J = K / 2 - 1;
+    out.fail.assign(std::size_t(2 * J + 1), 0);
+    out.cut.assign(std::size_t(2 * J + 1), 0);
+    out.valid.assign(std::size_t(2 * J + 1), 1);
+    Eigen::Array3i e = Eigen::Array3i::Zero();
+    e[a] = 1;
+    if (!grid_.inside(s) || !grid_.inside(s + e - delta)) {
+      std::fill(out.valid.begin(), out.valid.end(), char(0));
+      return out;
+    }
+    for (int j = -J; j <= J; ++j)
+      if ((j > 0 && !grid_.inside(s + e)) || (j < 0 && !grid_.inside(s - delta))) out.valid[std::size_t(j + J)] = 0;
+    const double h = spacing_ * Ainv_.row(a).norm();  // one spacing across the planes of a, in cells
+    const double tau2 = 2.25 * spacing_ * spacing_;
+    const Eigen::Vector3d move = A_ * delta.cast<double>().matrix();  // model units
+    const detail::PointSetTree& tree = sample_tree();
+    // side 0: x's copy (below the cut), from input cells s and s + e_a; its samples moved by -move must
+    // meet a sample. side 1: y's copy (from the cut on), cells s - delta and s - delta + e_a; by +move.
+    for (int side = 0; side < 2; ++side) {
+      const Eigen::Array3i lower = side == 0 ? Eigen::Array3i(s) : Eigen::Array3i(s - delta);
+      for (const Eigen::Array3i& c : {lower, Eigen::Array3i(lower + e)}) {
+        if (!grid_.inside(c)) continue;
+        for (const int i : members_[std::size_t(grid_.index(c))]) {
+          const double w = canonical_[std::size_t(i)][a] - double(lower[a]);  // from x's lower plane
+          if (w < 0.5 - h || w >= 1.5 + h) continue;
+          const Eigen::Vector3d q = points_[std::size_t(i)] + (side == 0 ? -move : move);
+          const float qf[3] = {float(q[0]), float(q[1]), float(q[2])};
+          detail::NearestWithin nearest = detail::NearestWithin::keeping(tau2);
+          tree.findNeighbors(nearest, qf, nanoflann::SearchParams());
+          for (int j = -J; j <= J; ++j) {
+            const double t = 1.0 + double(j) / K;
+            if (side == 0 ? (w < t - h || w >= t) : (w < t || w >= t + h)) continue;
+            ++out.cut[std::size_t(j + J)];
+            if (!nearest.found) ++out.fail[std::size_t(j + J)];
+          }
+        }
+      }
+    }
+    return out;
+  }
+
   /// The index 0..26 of a direction (components -1, 0, 1; x fastest).
   static std::size_t direction(const Eigen::Array3i& e) {
     return std::size_t((e[0] + 1) + 3 * ((e[1] + 1) + 3 * (e[2] + 1)));
@@ -320,6 +384,28 @@ class CellSlabs {
   std::vector<Slab> slabs_;
   std::unordered_map<std::uint64_t, double> cache_;
   std::map<std::tuple<int, int, int, double>, double> plane_cache_;  // plane_mismatch of inside cells
+  struct SampleTree {  // every finite sample (model units, float) under a k-d tree; built on first use
+    MatrixX3f points;
+    detail::PointSetAdaptor adaptor{&points};
+    std::unique_ptr<detail::PointSetTree> tree;
+  };
+  std::shared_ptr<SampleTree> tree_;
+  std::map<std::tuple<int, int, int, int, int, int>, SeamPositions> positions_cache_;
+
+  const detail::PointSetTree& sample_tree() {
+    if (tree_) return *tree_->tree;
+    tree_ = std::make_shared<SampleTree>();
+    std::size_t n = 0;
+    for (const std::vector<int>& m : members_) n += m.size();
+    tree_->points.resize(Eigen::Index(n), 3);
+    Eigen::Index r = 0;
+    for (const std::vector<int>& m : members_)
+      for (const int i : m) tree_->points.row(r++) = points_[std::size_t(i)].cast<float>().transpose();
+    tree_->adaptor.points = &tree_->points;
+    tree_->tree = std::make_unique<detail::PointSetTree>(3, tree_->adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    tree_->tree->buildIndex();
+    return *tree_->tree;
+  }
 };
 
 }  // namespace restitch

@@ -27,7 +27,9 @@
 //   exact {applied, scale, size_nearest}, seam_energy ("geometry" | "descriptor"),
 //   sample_spacing, seam_tolerance, max_seam_mismatch (model units), seams [{cells [[i,j,k] x2]
 //   (output cells; the second lies outside for an anchored end), labels [[du,dv,dw] x2], mismatch
-//   (model units), outer}] (docs/method.md 2.8), warnings [string] (seams over the tolerance; empty when fine).
+//   (model units), outer, offset (cells from the cell face, docs/method.md 2.9)}] (docs/method.md 2.8),
+//   warnings [string] (seams over the tolerance; empty when fine), seams_moved, plane_offsets [[..] x3]
+//   (per lattice axis, the offset of each plane between output cells; [] when none moved, 2.9).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -123,8 +125,11 @@ inline nlohmann::json retarget_json(const RetargetReport& r) {
     j["seams"].push_back({{"cells", {detail::arr3(s.cell_a), detail::arr3(s.cell_b)}},
                           {"labels", {detail::arr3(s.label_a), detail::arr3(s.label_b)}},
                           {"mismatch", s.mismatch},
-                          {"outer", s.outer}});
+                          {"outer", s.outer},
+                          {"offset", s.offset}});
   j["warnings"] = r.warnings;
+  j["seams_moved"] = r.seams_moved;
+  j["plane_offsets"] = {r.plane_offsets[0], r.plane_offsets[1], r.plane_offsets[2]};
   return j;
 }
 
