@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every restitch test on a fresh Debian 12 machine (installs what is missing):
 #   1. native build, all tests (unit, command line + glTF-Validator, install consumer)
-#   2. the same tests under AddressSanitizer + UndefinedBehaviorSanitizer
+#   2. the same tests under AddressSanitizer + UndefinedBehaviorSanitizer, then a 20 s fuzz smoke per
+#      libFuzzer target (scripts/fuzz.sh)
 #   3. the Emscripten build of the tests, run under node
 #   4. the web demo's node and browser tests (when the demo is built)
 # Ends with a line "N passed, N failed" over all stages; exits non-zero on any failure.
@@ -40,6 +41,12 @@ stage "AddressSanitizer + UndefinedBehaviorSanitizer"
 build build/sanitize "restitch_tests restitch_cli" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1" \
   -DRESTITCH_SANITIZE=ON -DRESTITCH_BUILD_BENCH=OFF -DRESTITCH_PCL_ORACLE=OFF &&
   run_ctest build/sanitize -E "install_consumer|example_"
+
+stage "fuzz smoke: each libFuzzer target for 20 s on its corpus (clang-14, ASan + UBSan)"
+# scripts/fuzz.sh builds the targets (build/fuzz) and fails on any crash, leak, timeout or sanitizer report.
+for t in gltf mrf xyzn pipeline; do
+  if bash "$root/scripts/fuzz.sh" "$t" 20; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
+done
 
 stage "WebAssembly (Emscripten) build of the tests, under node"
 # The same configuration builds the web demo's module (demo_web/dist), reused by stage 4.

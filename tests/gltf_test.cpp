@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "restitch/detail/file.hpp"
 #include "restitch/io/gltf.hpp"
@@ -366,15 +367,63 @@ TEST_CASE("gltf: bad input gets an error that names the problem", "[gltf]") {
   }
   SECTION("an absurd count over a small buffer is refused before anything is allocated") {
     // 2^31 positions (48 GiB as doubles) declared over the quad's few bytes: a parse error, not
-    // std::bad_alloc (the count is checked against the bytes that are there first).
+    // std::bad_alloc (the count is checked against the bytes that are there first). The vertex limit
+    // would refuse the larger counts first (next section): it is lifted here.
+    GltfLimits none;
+    none.max_vertices = none.max_triangles = std::numeric_limits<std::size_t>::max();
     for (const std::int64_t count : {std::int64_t(1) << 31, (std::int64_t(1) << 31) - 1, std::int64_t(1000000)}) {
       GltfBuilder b = good;
       b.j["accessors"][0]["count"] = count;
-      auto m = load_text(b.gltf_text());
+      const std::string text = b.gltf_text();
+      auto m = load_gltf_from_memory(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), "", nullptr, none);
       REQUIRE_FALSE(m.ok());
       CHECK(m.status().code() == StatusCode::parse_error);
       CHECK_THAT(m.status().message(), Catch::Contains("past the end"));
     }
+  }
+  SECTION("an absurd count with no bufferView (zeros) is refused by the vertex limit before it is allocated") {
+    GltfBuilder b = good;
+    b.j["accessors"][0].erase("bufferView");
+    b.j["accessors"][0]["count"] = std::int64_t(1) << 31;  // 48 GiB of doubles if it were decoded
+    auto m = load_text(b.gltf_text());
+    REQUIRE_FALSE(m.ok());
+    CHECK(m.status().code() == StatusCode::too_large);
+    CHECK_THAT(m.status().message(), Catch::Contains("2147483648 vertices"));
+    CHECK_THAT(m.status().message(), Catch::Contains("GltfLimits::max_vertices"));
+    CHECK_THAT(m.status().message(), Catch::Contains("--max-vertices"));
+  }
+  SECTION("an attribute whose count differs from POSITION is refused before it is read") {
+    GltfBuilder b = good;
+    const int n = b.floats(std::vector<float>(12, 0.5f), "VEC3", 3);
+    b.j["accessors"][std::size_t(n)].erase("bufferView");
+    b.j["accessors"][std::size_t(n)]["count"] = std::int64_t(1) << 31;
+    b.j["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = n;
+    auto m = load_text(b.gltf_text());
+    REQUIRE_FALSE(m.ok());
+    CHECK_THAT(m.status().message(), Catch::Contains("NORMAL has a different count from POSITION"));
+  }
+  SECTION("the vertex and triangle limits, per primitive and over the scene's instances") {
+    GltfLimits tight;
+    tight.max_triangles = 3;  // the quad has 2 triangles: one instance passes, two do not
+    auto one = load_gltf_from_memory(glb.data(), glb.size(), "", nullptr, tight);
+    REQUIRE(one.ok());
+    GltfBuilder b = good;
+    b.j["nodes"].push_back({{"mesh", 0}, {"translation", {2.0, 0.0, 0.0}}});
+    b.j["scenes"][0]["nodes"].push_back(int(b.j["nodes"].size()) - 1);
+    const std::string text = b.gltf_text();
+    REQUIRE(load_text(text).ok());
+    auto two = load_gltf_from_memory(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), "", nullptr,
+                                     tight);
+    REQUIRE_FALSE(two.ok());
+    CHECK(two.status().code() == StatusCode::too_large);
+    CHECK_THAT(two.status().message(), Catch::Contains("4 triangles, more than the limit of 3"));
+    CHECK_THAT(two.status().message(), Catch::Contains("--max-triangles"));
+    GltfLimits few_vertices;
+    few_vertices.max_vertices = 3;  // the quad has 4
+    auto v = load_gltf_from_memory(glb.data(), glb.size(), "", nullptr, few_vertices);
+    REQUIRE_FALSE(v.ok());
+    CHECK(v.status().code() == StatusCode::too_large);
+    CHECK_THAT(v.status().message(), Catch::Contains("4 vertices, more than the limit of 3"));
   }
   SECTION("index out of range") {
     GltfBuilder b;

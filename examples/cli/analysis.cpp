@@ -13,7 +13,7 @@ namespace restitch::cli {
 
 Result<Analysis> load_and_analyze(const std::string& input, const PolicyNames& policies, Mesh& mesh, bool quiet) {
   GltfLoadReport report;
-  Result<Mesh> loaded = load_gltf(input, &report);
+  Result<Mesh> loaded = load_gltf(input, &report, policies.limits);
   if (!loaded) return loaded.status();
   if (!quiet)
     for (const std::string& w : report.warnings) std::fprintf(stderr, "restitch: warning: %s\n", w.c_str());
@@ -28,7 +28,17 @@ Result<Analysis> load_and_analyze(const std::string& input, const PolicyNames& p
   return a;
 }
 
+void add_limit_options(CLI::App* cmd, GltfLimits& limits) {
+  cmd->add_option("--max-vertices", limits.max_vertices,
+                  "refuse a model with more vertices than this (counted over the scene, instances included)")
+      ->capture_default_str();
+  cmd->add_option("--max-triangles", limits.max_triangles,
+                  "refuse a model with more triangles than this (counted over the scene, instances included)")
+      ->capture_default_str();
+}
+
 void add_policy_options(CLI::App* cmd, PolicyNames& policies) {
+  add_limit_options(cmd, policies.limits);
   cmd->add_option("--descriptor", policies.descriptor, "descriptor policy")
       ->check(CLI::IsMember(descriptor_names()))
       ->capture_default_str();

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "restitch/io/gltf.hpp"
 #include "restitch/progress.hpp"
 #include "restitch/status.hpp"
 
@@ -46,7 +47,11 @@ inline double printable(double x, double length = 0) { return x == 0 || std::abs
 struct PolicyNames {
   std::string descriptor = "shot", matcher = "brute_force", detector = "histogram";
   std::vector<double> offsets;  ///< --offsets: x,y,z triples (model units) made principal first
+  GltfLimits limits;            ///< --max-vertices, --max-triangles
 };
+
+/// Adds --max-vertices and --max-triangles (what a loaded model may have at most; GltfLimits).
+void add_limit_options(CLI::App* cmd, GltfLimits& limits);
 
 /// Each subcommand registers itself: it adds a CLI11 subcommand and sets a
 /// callback that stores its exit code in `*exit_code`.

@@ -10,6 +10,7 @@ namespace restitch::cli {
 void register_info(CLI::App& app, int* exit_code) {
   struct Args {
     std::string input, json;
+    GltfLimits limits;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -18,9 +19,10 @@ void register_info(CLI::App& app, int* exit_code) {
       "of a glTF model");
   cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
   cmd->add_option("--json", args->json, "also write the figures as JSON to FILE, or - for standard output");
+  add_limit_options(cmd, args->limits);
   cmd->callback([args, exit_code] {
     GltfLoadReport report;
-    Result<Mesh> mesh = load_gltf(args->input, &report);
+    Result<Mesh> mesh = load_gltf(args->input, &report, args->limits);
     if (!mesh) {
       *exit_code = fail(mesh.status());
       return;
@@ -73,6 +75,7 @@ namespace restitch::cli {
 void register_convert(CLI::App& app, int* exit_code) {
   struct Args {
     std::string input, output;
+    GltfLimits limits;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -80,9 +83,10 @@ void register_convert(CLI::App& app, int* exit_code) {
       "Read a glTF model and write it back as restitch writes (world space, one mesh; .glb or .gltf by extension)");
   cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
   cmd->add_option("-o,--output", args->output, "output model (.glb or .gltf)")->required();
+  add_limit_options(cmd, args->limits);
   cmd->callback([args, exit_code] {
     GltfLoadReport report;
-    Result<Mesh> mesh = load_gltf(args->input, &report);
+    Result<Mesh> mesh = load_gltf(args->input, &report, args->limits);
     if (!mesh) {
       *exit_code = fail(mesh.status());
       return;

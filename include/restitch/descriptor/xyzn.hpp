@@ -1,7 +1,7 @@
 // restitch/descriptor/xyzn.hpp - the text formats of `restitch describe`:
 // points with normals in, descriptors as CSV out.
 //
-// read_xyzn(path) reads an .xyzn file: one point per line, six numbers
+// read_xyzn(path) reads an .xyzn file (parse_xyzn(text, name) the same bytes held in memory): one point per line, six numbers
 // `x y z nx ny nz` separated by spaces or tabs. Blank lines and lines whose
 // first non-blank character is '#' are skipped; a trailing '\r' (CRLF files)
 // is ignored. Numbers are parsed with strtof (C locale assumed), so `nan` and
@@ -27,36 +27,27 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "restitch/descriptor/descriptor.hpp"
+#include "restitch/detail/file.hpp"
 #include "restitch/status.hpp"
 
 namespace restitch {
 
-namespace detail {
-
-/// Reads one line (without its '\n') from f into line; false at end of file.
-inline bool read_line(std::FILE* f, std::string& line) {
-  line.clear();
-  int c;
-  while ((c = std::fgetc(f)) != EOF) {
-    if (c == '\n') return true;
-    line.push_back(static_cast<char>(c));
-  }
-  return !line.empty();
-}
-
-}  // namespace detail
-
-/// Reads `x y z nx ny nz` lines into a PointSet; see the file comment.
-inline Result<PointSet> read_xyzn(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) return error(StatusCode::io_error, "cannot open '" + path + "' for reading");
+/// Parses `x y z nx ny nz` lines held in memory into a PointSet; `name` (a path, or any label) starts the
+/// error messages. See the file comment.
+inline Result<PointSet> parse_xyzn(std::string_view text, const std::string& name) {
   std::vector<float> values;
   std::string line;
   long line_number = 0;
-  while (detail::read_line(f, line)) {
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    line.assign(text.data() + pos, end - pos);
+    pos = end + 1;
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::size_t first = line.find_first_not_of(" \t");
@@ -64,34 +55,30 @@ inline Result<PointSet> read_xyzn(const std::string& path) {
     const char* s = line.c_str();
     float v[6];
     int count = 0;
-    bool bad = false;
-    for (;;) {
+    bool bad = line.find('\0') != std::string::npos;  // strtof would stop there
+    while (!bad) {
       while (*s == ' ' || *s == '\t') ++s;
       if (*s == '\0') break;
       if (count == 6) {
         bad = true;
         break;
       }
-      char* end = nullptr;
-      const float x = std::strtof(s, &end);
-      if (end == s || (*end != '\0' && *end != ' ' && *end != '\t')) {
+      char* end_number = nullptr;
+      const float x = std::strtof(s, &end_number);
+      if (end_number == s || (*end_number != '\0' && *end_number != ' ' && *end_number != '\t')) {
         bad = true;
         break;
       }
       v[count++] = x;
-      s = end;
+      s = end_number;
     }
     if (bad || count != 6) {
-      std::fclose(f);
-      return error(StatusCode::parse_error, path + ":" + std::to_string(line_number) +
+      if (line.size() > 80) line = line.substr(0, 80) + "...";
+      return error(StatusCode::parse_error, name + ":" + std::to_string(line_number) +
                                                 ": expected 6 numbers 'x y z nx ny nz', got '" + line + "'");
     }
     values.insert(values.end(), v, v + 6);
   }
-  const bool read_failed = std::ferror(f) != 0;
-  std::fclose(f);
-  if (read_failed) return error(StatusCode::io_error, "error while reading '" + path + "'");
-
   PointSet ps;
   const Eigen::Index n = static_cast<Eigen::Index>(values.size() / 6);
   ps.points.resize(n, 3);
@@ -103,6 +90,13 @@ inline Result<PointSet> read_xyzn(const std::string& path) {
     }
   }
   return ps;
+}
+
+/// Reads an .xyzn file into a PointSet (parse_xyzn on its bytes); io_error when it cannot be read.
+inline Result<PointSet> read_xyzn(const std::string& path) {
+  std::vector<std::uint8_t> bytes;
+  RESTITCH_TRY(detail::read_file(path, bytes));
+  return parse_xyzn(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
 }
 
 /// Writes D as CSV through a temporary file; see the file comment.

@@ -96,6 +96,15 @@ struct GltfLoadReport {
   std::vector<std::string> warnings;  ///< each names what was dropped and why
 };
 
+/// What a load accepts at most; a file past a limit is refused (StatusCode::too_large, naming the limit
+/// and this option) before its data is decoded. Counted over the default scene, instances included.
+/// Defaults: 10 million each, ten times the largest model the bench analyses (1M triangles); a model
+/// at the limit takes about 1 GB to load and resize.
+struct GltfLimits {
+  std::size_t max_vertices = 10'000'000;
+  std::size_t max_triangles = 10'000'000;
+};
+
 }  // namespace restitch
 
 // The implementation parts: they need tinygltf configured and the types above.
@@ -111,22 +120,23 @@ namespace restitch {
 /// Loads a glTF model from bytes. `base_dir` is where external buffers and
 /// images are looked up ("" = none may be external). Warnings go to `report`.
 inline Result<Mesh> load_gltf_from_memory(const std::uint8_t* data, std::size_t size, const std::string& base_dir = "",
-                                          GltfLoadReport* report = nullptr) {
+                                          GltfLoadReport* report = nullptr, const GltfLimits& limits = {}) {
   GltfLoadReport local;
   GltfLoadReport& r = report ? *report : local;
   r = GltfLoadReport();
   tinygltf::Model model;
   RESTITCH_TRY(detail::parse_model(data, size, base_dir, detail::has_glb_magic(data, size), model, r));
   Mesh mesh;
-  RESTITCH_TRY(detail::build_mesh(model, mesh, r));
+  RESTITCH_TRY(detail::build_mesh(model, mesh, r, limits));
   return mesh;
 }
 
 /// Loads a .glb or .gltf file (see the header comment for what is carried).
-inline Result<Mesh> load_gltf(const std::string& path, GltfLoadReport* report = nullptr) {
+inline Result<Mesh> load_gltf(const std::string& path, GltfLoadReport* report = nullptr,
+                              const GltfLimits& limits = {}) {
   std::vector<std::uint8_t> bytes;
   RESTITCH_TRY(detail::read_file(path, bytes));
-  Result<Mesh> mesh = load_gltf_from_memory(bytes.data(), bytes.size(), detail::parent_dir(path), report);
+  Result<Mesh> mesh = load_gltf_from_memory(bytes.data(), bytes.size(), detail::parent_dir(path), report, limits);
   if (!mesh) return Status(mesh.status().code(), path + ": " + mesh.status().message());
   return mesh;
 }

@@ -33,6 +33,7 @@
 #include <utility>
 #include <vector>
 
+#include "restitch/detail/file.hpp"
 #include "restitch/solver/mrf.hpp"
 #include "restitch/status.hpp"
 
@@ -46,13 +47,13 @@ namespace detail {
 /// Line-by-line reader over a file held in memory; skips blank and '#' lines.
 class MrfLines {
  public:
-  MrfLines(const std::string& text, std::string path) : text_(text), path_(std::move(path)) {}
+  MrfLines(std::string_view text, std::string path) : text_(text), path_(std::move(path)) {}
 
   /// The next line with content; false at the end of the file.
   bool next(std::string_view& line) {
     while (pos_ < text_.size()) {
       std::size_t end = text_.find('\n', pos_);
-      if (end == std::string::npos) end = text_.size();
+      if (end == std::string_view::npos) end = text_.size();
       std::string_view l(text_.data() + pos_, end - pos_);
       pos_ = end + 1;
       ++line_no_;
@@ -72,7 +73,7 @@ class MrfLines {
   Status parse_error(const std::string& what) const { return fail(StatusCode::parse_error, what); }
 
  private:
-  const std::string& text_;
+  std::string_view text_;
   std::string path_;
   std::size_t pos_ = 0;
   int line_no_ = 0;
@@ -196,18 +197,8 @@ Status write_mrf(const std::string& path, const P& problem) {
 /// of values, a value that is not a finite number, an edge out of range or
 /// joining a node to itself, missing or extra lines), unsupported (a newer
 /// format version), too_large (sizes past the limits above).
-inline Result<TableMrf> read_mrf(const std::string& path) {
-  std::string text;
-  {
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) return error(StatusCode::io_error, "cannot open '" + path + "' for reading");
-    char buf[1 << 16];
-    std::size_t got;
-    while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, got);
-    const bool failed = std::ferror(f) != 0;
-    std::fclose(f);
-    if (failed) return error(StatusCode::io_error, "reading '" + path + "' failed");
-  }
+/// parse_mrf reads the same from bytes held in memory; `path` only names them in messages.
+inline Result<TableMrf> parse_mrf(std::string_view text, const std::string& path) {
   detail::MrfLines lines(text, path);
   std::vector<std::string_view> tok;
   std::string_view line;
@@ -246,6 +237,12 @@ inline Result<TableMrf> read_mrf(const std::string& path) {
     return lines.fail(StatusCode::too_large, "the problem holds " + std::to_string(values) +
                                                  " numbers (N M + E M^2); read_mrf accepts at most 1e8");
   if (n > 0 && m == 0) return lines.parse_error("a problem with nodes needs at least one label");
+  // Every value takes at least two bytes ("0 "), every edge's node pair four: a file too short for what
+  // it declares is refused before the tables are allocated.
+  if (values * 2 + double(edges) * 4 > double(text.size()))
+    return lines.parse_error("the file ends early: it declares " + std::to_string(n) + " nodes, " + std::to_string(m) +
+                             " labels and " + std::to_string(edges) + " edges, more numbers than its " +
+                             std::to_string(text.size()) + " bytes can hold");
 
   TableMrf problem(static_cast<int>(n), static_cast<int>(m));
   std::vector<double> row(static_cast<std::size_t>(m) * static_cast<std::size_t>(m));
@@ -270,6 +267,13 @@ inline Result<TableMrf> read_mrf(const std::string& path) {
   }
   if (lines.next(line)) return lines.parse_error("unexpected data after the last edge");
   return problem;
+}
+
+/// Reads a problem file (parse_mrf on its bytes); io_error when it cannot be read.
+inline Result<TableMrf> read_mrf(const std::string& path) {
+  std::vector<std::uint8_t> bytes;
+  RESTITCH_TRY(detail::read_file(path, bytes));
+  return parse_mrf(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
 }
 
 }  // namespace restitch

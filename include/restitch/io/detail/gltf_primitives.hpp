@@ -150,6 +150,9 @@ inline Status read_positions(const tinygltf::Model& model, int accessor, const s
 // Reads vertex attribute `name` (one value set per vertex, all finite).
 inline Status read_vertex_attribute(const tinygltf::Model& model, int accessor, const std::string& where,
                                     const std::string& name, std::size_t nv, std::vector<double>& values, int& comps) {
+  // Before reading: a count the positions do not have is refused without decoding (or allocating) it.
+  if (accessor >= 0 && accessor < int(model.accessors.size()) && model.accessors[std::size_t(accessor)].count != nv)
+    return gltf_error(StatusCode::parse_error, where, name + " has a different count from POSITION");
   RESTITCH_TRY(read_accessor(model, accessor, values, comps, where + " " + name));
   if (values.size() / std::max(comps, 1) != nv)
     return gltf_error(StatusCode::parse_error, where, name + " has a different count from POSITION");
@@ -245,10 +248,22 @@ inline Status read_indices(const tinygltf::Model& model, const tinygltf::Primiti
   return {};
 }
 
+// The count of accessor `index` when it exists (0 otherwise: read_accessor reports the error).
+inline std::size_t accessor_count(const tinygltf::Model& model, int index) {
+  return index >= 0 && index < int(model.accessors.size()) ? model.accessors[std::size_t(index)].count : 0;
+}
+
+// too_large: `n` `what` ("vertices" or "triangles") past the limit GltfLimits::max_<what>.
+inline Status over_limit(const std::string& where, std::uint64_t n, const std::string& what, std::size_t limit) {
+  return gltf_error(StatusCode::too_large, where,
+                    "has " + std::to_string(n) + " " + what + ", more than the limit of " + std::to_string(limit) +
+                        " (GltfLimits::max_" + what + "; --max-" + what + " on the command line)");
+}
+
 // Decodes primitive `pi` of mesh `mi`; appends it to `out` unless it is
-// dropped (with a warning).
+// dropped (with a warning). Counts past `limits` are refused before their data is read.
 inline Status decode_primitive(const tinygltf::Model& model, int mi, std::size_t pi, DecodedMesh& out,
-                               std::vector<std::string>& warnings) {
+                               std::vector<std::string>& warnings, const GltfLimits& limits) {
   const tinygltf::Mesh& gm = model.meshes[mi];
   const tinygltf::Primitive& prim = gm.primitives[pi];
   const std::string where =
@@ -268,6 +283,14 @@ inline Status decode_primitive(const tinygltf::Model& model, int mi, std::size_t
     add_warning(warnings, where + " has no POSITION attribute: dropped");
     return {};
   }
+  const std::size_t declared_vertices = accessor_count(model, pos_it->second);
+  if (declared_vertices > limits.max_vertices)
+    return over_limit(where, declared_vertices, "vertices", limits.max_vertices);
+  const std::uint64_t corners = prim.indices >= 0 ? accessor_count(model, prim.indices) : declared_vertices;
+  const std::uint64_t declared_triangles =
+      mode == TINYGLTF_MODE_TRIANGLES ? corners / 3 : (corners > 2 ? corners - 2 : 0);
+  if (declared_triangles > limits.max_triangles)
+    return over_limit(where, declared_triangles, "triangles", limits.max_triangles);
   DecodedPrimitive p;
   PrimitiveData& d = p.data;
   RESTITCH_TRY(read_positions(model, pos_it->second, where, d.pos));
@@ -286,10 +309,11 @@ inline Status decode_primitive(const tinygltf::Model& model, int mi, std::size_t
 }
 
 // Decodes every primitive of mesh `mi` (a valid index), in file order.
-inline Status decode_mesh(const tinygltf::Model& model, int mi, DecodedMesh& out, std::vector<std::string>& warnings) {
+inline Status decode_mesh(const tinygltf::Model& model, int mi, DecodedMesh& out, std::vector<std::string>& warnings,
+                          const GltfLimits& limits) {
   out.clear();
   for (std::size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi)
-    RESTITCH_TRY(decode_primitive(model, mi, pi, out, warnings));
+    RESTITCH_TRY(decode_primitive(model, mi, pi, out, warnings, limits));
   return {};
 }
 

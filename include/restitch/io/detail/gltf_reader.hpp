@@ -123,7 +123,7 @@ struct DecodedMeshes {
 // decoding the mesh first if no earlier instance did. A singular transform
 // drops the instance with a warning (and decodes nothing).
 inline Status place_instance(const tinygltf::Model& model, const MeshInstance& inst, DecodedMeshes& decoded,
-                             PrimitiveGroups& groups, GltfLoadReport& report) {
+                             PrimitiveGroups& groups, GltfLoadReport& report, const GltfLimits& limits) {
   InstanceTransform xf;
   xf.world = inst.world;
   xf.L = xf.world.block<3, 3>(0, 0);
@@ -136,9 +136,17 @@ inline Status place_instance(const tinygltf::Model& model, const MeshInstance& i
   xf.Ln = xf.L.inverse().transpose();
   xf.mirrored = det < 0;
   if (!decoded.done[inst.mesh]) {
-    RESTITCH_TRY(decode_mesh(model, inst.mesh, decoded.meshes[inst.mesh], report.warnings));
+    RESTITCH_TRY(decode_mesh(model, inst.mesh, decoded.meshes[inst.mesh], report.warnings, limits));
     decoded.done[inst.mesh] = true;
   }
+  // The scene's totals with this instance, before it is placed: instancing a mesh many times (a node
+  // tree) must not build more than the limits allow either.
+  std::uint64_t nv = 0, nf = 0;
+  for (const PrimitiveData& g : groups.data) nv += g.pos.size() / 3, nf += g.tris.size() / 3;
+  for (const DecodedPrimitive& p : decoded.meshes[inst.mesh]) nv += p.data.pos.size() / 3, nf += p.data.tris.size() / 3;
+  const std::string where = "the default scene (up to node " + std::to_string(inst.node) + ")";
+  if (nv > limits.max_vertices) return over_limit(where, nv, "vertices", limits.max_vertices);
+  if (nf > limits.max_triangles) return over_limit(where, nf, "triangles", limits.max_triangles);
   for (const DecodedPrimitive& p : decoded.meshes[inst.mesh]) {
     ++report.primitives;
     place_primitive(p.data, xf, groups.group_for(p));
@@ -200,7 +208,7 @@ inline Status flatten_groups(const PrimitiveGroups& groups, Mesh& mesh) {
 }
 
 // The parsed model as one world-space Mesh (see the header comment).
-inline Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadReport& report) {
+inline Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadReport& report, const GltfLimits& limits) {
   RESTITCH_TRY(check_model(model, report.warnings));
   report.meshes = model.meshes.size();
   report.nodes = model.nodes.size();
@@ -214,7 +222,7 @@ inline Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadRepor
   decoded.meshes.resize(model.meshes.size());
   decoded.done.assign(model.meshes.size(), false);
   PrimitiveGroups groups;
-  for (const MeshInstance& inst : instances) RESTITCH_TRY(place_instance(model, inst, decoded, groups, report));
+  for (const MeshInstance& inst : instances) RESTITCH_TRY(place_instance(model, inst, decoded, groups, report, limits));
   RESTITCH_TRY(walked);
 
   RESTITCH_TRY(flatten_groups(groups, mesh));
