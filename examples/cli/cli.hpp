@@ -3,6 +3,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cctype>
 #include <cmath>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -49,6 +50,19 @@ struct PolicyNames {
   std::vector<double> offsets;  ///< --offsets: x,y,z triples (model units) made principal first
   GltfLimits limits;            ///< --max-vertices, --max-triangles
 };
+
+/// The -o of a model: a path ending in .glb or .gltf (any case); anything else is a command-line mistake
+/// (exit 2), found before the input is read.
+inline CLI::Validator gltf_output_path() {
+  return CLI::Validator(
+      [](const std::string& path) {
+        std::string ext = path.size() >= 5 ? path.substr(path.size() - 5) : path;
+        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        const bool ok = ext == ".gltf" || (ext.size() == 5 && ext.substr(1) == ".glb");
+        return ok ? std::string() : "the output must end in .glb or .gltf: " + path;
+      },
+      "PATH.glb|PATH.gltf");
+}
 
 /// Adds --max-vertices and --max-triangles (what a loaded model may have at most; GltfLimits).
 void add_limit_options(CLI::App* cmd, GltfLimits& limits);

@@ -82,7 +82,7 @@ void register_convert(CLI::App& app, int* exit_code) {
       "convert",
       "Read a glTF model and write it back as restitch writes (world space, one mesh; .glb or .gltf by extension)");
   cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
-  cmd->add_option("-o,--output", args->output, "output model (.glb or .gltf)")->required();
+  cmd->add_option("-o,--output", args->output, "output model (.glb or .gltf)")->required()->check(gltf_output_path());
   add_limit_options(cmd, args->limits);
   cmd->callback([args, exit_code] {
     GltfLoadReport report;

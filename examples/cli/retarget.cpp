@@ -170,7 +170,7 @@ void register_resize(CLI::App& app, int* exit_code) {
   auto args = std::make_shared<ResizeArgs>();
   CLI::App* cmd = app.add_subcommand("resize", "Resize a model along its repeats by graph-cut stitching");
   cmd->add_option("input", args->input, "input model (.glb or .gltf)")->required();
-  cmd->add_option("-o,--output", args->output, "output model (.glb or .gltf)")->required();
+  cmd->add_option("-o,--output", args->output, "output model (.glb or .gltf)")->required()->check(gltf_output_path());
   auto* steps =
       cmd->add_option("--steps", args->steps, "repeats to add along principal offsets 1[,2[,3]] (negative removes)")
           ->delimiter(',')

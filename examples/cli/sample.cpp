@@ -25,7 +25,7 @@ void register_sample(CLI::App& app, int* exit_code) {
   CLI::App* cmd = app.add_subcommand("sample", "Generate a parametric sample model with exactly known repeats");
   cmd->add_flag("--list", args->list, "list the samples, one per line, name first");
   cmd->add_option("name", args->name, "sample name (see --list)");
-  cmd->add_option("-o,--output", args->output, "output model (.glb or .gltf)");
+  cmd->add_option("-o,--output", args->output, "output model (.glb or .gltf)")->check(gltf_output_path());
   cmd->allow_extras();
   cmd->footer(footer);
   cmd->callback([args, exit_code, cmd] {

@@ -239,7 +239,25 @@ for f in truncated magic broken empty range nan; do
   [ ! -e "$work/out-$f.glb" ] && ok || bad "convert of a bad input ($f) left an output file"
 done
 expect_error 6 "cannot write" "$bin" convert "$work/good.glb" -o "$work/no/such/dir/out.glb"
-expect_error 5 "must end in" "$bin" convert "$work/good.glb" -o "$work/out.obj"
+expect_error 2 "must end in" "$bin" convert "$work/good.glb" -o "$work/out.obj"
+expect_error 2 "must end in" "$bin" resize "$work/good.glb" -o "$work/out.obj" --steps 1
+# The rest of README's table of bad inputs (each row's exit code and message).
+: > "$work/zero.glb"
+expect_error 3 "empty" "$bin" info "$work/zero.glb"
+printf '{"asset":{"version":"2.0"},"buffers":[{"byteLength":42,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAkA"}],"bufferViews":[{"buffer":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0}' > "$work/index.gltf"
+expect_error 3 "out of range" "$bin" info "$work/index.gltf"
+printf '{"asset":{"version":"2.0"},"accessors":[{"componentType":5126,"count":2147483648,"type":"VEC3"}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0}' > "$work/absurd.gltf"
+expect_error 5 "max-vertices" "$bin" info "$work/absurd.gltf"
+expect_error 5 "max-triangles" "$bin" info "$work/good.glb" --max-triangles 10
+printf '{"asset":{"version":"2.0"},"buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAQAAAAAAAAAAA"}],"bufferViews":[{"buffer":0,"byteLength":36}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0}' > "$work/degenerate.gltf"
+expect_error 4 "degenerate" "$bin" info "$work/degenerate.gltf"
+printf '{"asset":{"version":"2.0"},"extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"],"scenes":[{"nodes":[]}],"scene":0}' > "$work/draco.gltf"
+expect_error 4 "KHR_draco_mesh_compression" "$bin" info "$work/draco.gltf"
+"$bin" sample pin_header --pins 1 -o "$work/one.glb" >/dev/null
+expect_error 4 "no repetition" "$bin" resize "$work/one.glb" -o "$work/x.glb" --steps 1
+expect_error 5 "max-problem" "$bin" resize "$work/good.glb" -o "$work/x.glb" --steps 100000
+expect_error 5 "at most" "$bin" resize "$work/good.glb" -o "$work/x.glb" --steps -100
+[ ! -e "$work/x.glb" ] && ok || bad "a refused resize left an output file"
 [ -z "$(ls "$work" | grep restitch-tmp)" ] && ok || bad "a temporary file was left behind"
 
 echo "$pass passed, $fail failed"
