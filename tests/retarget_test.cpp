@@ -608,3 +608,34 @@ TEST_CASE("retarget: a seam moves off its cell plane to where the two copies con
     }
   }
 }
+
+TEST_CASE("retarget: a vertex no face uses, however far away, changes nothing (found by fuzz_pipeline)",
+          "[retarget]") {
+  // glTF allows unused positions anywhere. One at 3.7e19 made the snapping's hash-grid cell overflow a
+  // 64-bit integer (undefined behaviour, UBSan) and the weld tolerance (8 ulps of the largest
+  // coordinate) 3.5e13, which welds a whole model into a point. Tolerances and snapping now read only
+  // the vertices the faces use.
+  Mesh m = plaque_row();
+  Mesh far = m;
+  far.V.conservativeResize(far.V.rows() + 1, 3);
+  far.V.row(far.V.rows() - 1) << 3.68946e19f, -1.8e-22f, 5.6e-45f;
+  REQUIRE(validate(far).ok());
+  CHECK(max_abs_coordinate(far) == max_abs_coordinate(m));
+  CHECK(weld_tolerance_of(far) == weld_tolerance_of(m));
+  Result<Analysis> a = analyze(m), b = analyze(far);
+  REQUIRE(a.ok());
+  REQUIRE(b.ok());
+  REQUIRE(a->principal.size() == b->principal.size());
+  for (std::size_t i = 0; i < a->principal.size(); ++i) CHECK((a->principal[i] - b->principal[i]).norm() == 0);
+  RetargetOptions o;
+  o.boundary_edges = true;
+  Eigen::Array3i k = Eigen::Array3i::Zero();
+  k[axis_of(a->lattice, Eigen::Vector3d::UnitX())] = 1;
+  Result<RetargetResult> x = Retargeter<>(m, *a, o).retarget(k), y = Retargeter<>(far, *b, o).retarget(k);
+  REQUIRE(x.ok());
+  REQUIRE(y.ok());
+  CHECK(x->mesh.V == y->mesh.V);
+  CHECK(x->mesh.F == y->mesh.F);
+  CHECK(x->report.boundary_edges_in == y->report.boundary_edges_in);
+  CHECK(x->report.boundary_edges_out == y->report.boundary_edges_out);
+}

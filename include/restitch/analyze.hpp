@@ -194,12 +194,18 @@ Status analysis_stage(const char* stage, const Progress& progress, std::map<std:
   return {};
 }
 
-/// The mesh's unique vertex positions, normalized, in a fixed (sorted) order:
-/// the points offsets are snapped onto (offsets/snap.hpp).
+/// The unique positions of the vertices the faces use, normalized, in a fixed (sorted) order: the
+/// points offsets are snapped onto (offsets/snap.hpp). A vertex no face uses is not geometry (and may
+/// lie anywhere: it would be far outside the normalized box).
 inline Eigen::Matrix<double, Eigen::Dynamic, 3> unique_normalized_vertices(const Mesh& mesh,
                                                                            const Normalization& normalization) {
-  std::vector<std::array<float, 3>> unique(std::size_t(mesh.V.rows()));
-  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) unique[std::size_t(i)] = {mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2)};
+  std::vector<std::array<float, 3>> unique;
+  unique.reserve(std::size_t(mesh.F.size()));
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Index i = mesh.F(f, k);
+      unique.push_back({mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2)});
+    }
   std::sort(unique.begin(), unique.end());
   unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
   Eigen::Matrix<double, Eigen::Dynamic, 3> P(Eigen::Index(unique.size()), 3);

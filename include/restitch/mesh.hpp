@@ -28,6 +28,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -119,6 +120,16 @@ inline BoundingBox bounding_box(const Mesh& m) {
   for (Eigen::Index f = 0; f < m.F.rows(); ++f)
     for (int k = 0; k < 3; ++k) b.extend(m.V.row(m.F(f, k)).transpose().cast<double>());
   return b;
+}
+
+/// The largest |coordinate| of the vertices the faces use (0 without faces). Vertices no face uses are
+/// not geometry (glTF allows them anywhere): tolerances derived from coordinates ignore them, as
+/// bounding_box does.
+inline double max_abs_coordinate(const Mesh& m) {
+  double out = 0;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) out = std::max(out, double(m.V.row(m.F(f, k)).cwiseAbs().maxCoeff()));
+  return out;
 }
 
 /// Twice the area of face f (the norm of the cross product of two edges).

@@ -38,9 +38,7 @@ namespace restitch {
 
 /// The weld tolerance of mesh m (see the file comment), in model units.
 inline double weld_tolerance_of(const Mesh& m, double relative_tolerance = 1e-6) {
-  double max_abs = 0;
-  for (Eigen::Index i = 0; i < m.V.size(); ++i) max_abs = std::max(max_abs, double(std::abs(m.V.data()[i])));
-  return std::max(relative_tolerance * bounding_box(m).size().norm(), 8.0 * double(FLT_EPSILON) * max_abs);
+  return std::max(relative_tolerance * bounding_box(m).size().norm(), 8.0 * double(FLT_EPSILON) * max_abs_coordinate(m));
 }
 
 /// The representative of every vertex when positions within `tol` are welded

@@ -21,7 +21,10 @@
 // Bad input (missing file, a directory, wrong magic, truncated binary,
 // broken JSON, an accessor or index out of range, NaN positions, no
 // triangles in the default scene) gives a non-ok Status whose message names
-// the problem.
+// the problem. Counts past `GltfLimits` (vertices and triangles over the
+// default scene, instances included) are refused (too_large) before their
+// data is decoded, and every accessor is checked against the bytes that are
+// there before it is read, so no count a file declares is allocated blindly.
 //
 // Writing (`save_gltf`, `save_glb_to_memory`): one mesh, one node, one scene;
 // one primitive per group with exactly the attributes the group carries

@@ -25,6 +25,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -56,9 +57,9 @@ inline SnapResult snap_offset(const Eigen::Matrix<double, Eigen::Dynamic, 3>& po
   if (n == 0 || !t.allFinite()) return result;
   // Hash grid with cells of start_radius: a query at radius r <= start_radius looks at 27 cells.
   const double h = options.start_radius;
-  auto cell = [h](const Eigen::Vector3d& p) {
-    return detail::Cell{std::int64_t(std::floor(p.x() / h)), std::int64_t(std::floor(p.y() / h)),
-                        std::int64_t(std::floor(p.z() / h))};
+  auto cell = [h](const Eigen::Vector3d& p) {  // saturated: a finite but huge offset must not overflow
+    const auto c = [h](double x) { return std::int64_t(std::clamp(std::floor(x / h), -4e18, 4e18)); };
+    return detail::Cell{c(p.x()), c(p.y()), c(p.z())};
   };
   detail::CellChains grid{std::size_t(n)};
   for (Eigen::Index i = 0; i < n; ++i) grid.insert(cell(points.row(i).transpose()), std::int32_t(i));

@@ -183,9 +183,8 @@ class ClipStitcher {
     const double det = lattice.A.determinant();
     if (!(std::abs(det) > 1e-9 * scale) || !(scale > 0))
       return error(StatusCode::invalid_argument, "the lattice offsets are (nearly) linearly dependent");
-    double max_abs = 0;
-    for (Eigen::Index i = 0; i < in.V.size(); ++i) max_abs = std::max(max_abs, double(std::abs(in.V.data()[i])));
-    const double tol = std::max(weld_tolerance * bounding_box(in).size().norm(), 8.0 * double(FLT_EPSILON) * max_abs);
+    const double tol =
+        std::max(weld_tolerance * bounding_box(in).size().norm(), 8.0 * double(FLT_EPSILON) * max_abs_coordinate(in));
     return cache.build(in, lattice, tol, max_bucket_entries);
   }
 

@@ -79,9 +79,7 @@ inline Status ClipStitchCache::build(const Mesh& in, const Lattice& lattice, dou
   mesh_ = &in;  // read by the helpers below; reset on failure
   lattice_ = lattice;
   tol_ = tol;
-  max_abs_coord_ = 0;
-  for (Eigen::Index i = 0; i < in.V.size(); ++i)
-    max_abs_coord_ = std::max(max_abs_coord_, double(std::abs(in.V.data()[i])));
+  max_abs_coord_ = max_abs_coordinate(in);
   canonical_coordinates(lattice.A.inverse());
   const Status s = bucket_triangles(max_bucket_entries);
   if (!s) mesh_ = nullptr;
