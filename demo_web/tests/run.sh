@@ -22,7 +22,7 @@ fi
 
 echo "--- web demo: node tests (the module, the session state machine, the worker client, the peak words)"
 node --test --test-reporter=tap "$here/module.test.mjs" "$here/session.test.mjs" "$here/worker-client.test.mjs" \
-  "$here/peaks.test.mjs" 2>&1 |
+  "$here/peaks.test.mjs" "$here/layers.test.mjs" 2>&1 |
   tee "$log/node.tap"
 p=$(grep -E '^# pass [0-9]+' "$log/node.tap" | tail -1 | awk '{print $3}')
 f=$(grep -E '^# fail [0-9]+' "$log/node.tap" | tail -1 | awk '{print $3}')
