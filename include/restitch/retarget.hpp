@@ -324,16 +324,26 @@ class Retargeter {
 
     if (!progress.report("stitching", 0.0)) return error(StatusCode::cancelled, "cancelled");
     t = clock::now();
-    const detail::MovedPlanes planes = move_seams(k, rep.cells_out, shift);
+    detail::MovedPlanes planes = move_seams(k, rep.cells_out, shift);
     rep.timings_ms["seam planes"] = ms_since(t);
     t = clock::now();
     StitchReport st;
     if (planes.any()) {
-      RESTITCH_TRY(stitch_moved(rep.cells_out, shift, planes, out.mesh, st));
-    } else if constexpr (has_prepared_stitch_v<Stitcher>) {
-      RESTITCH_TRY(stitcher_.stitch(cache_, rep.cells_out, shift, out.mesh, st));
-    } else {
-      RESTITCH_TRY(stitcher_.stitch(*mesh_, grid_, rep.cells_out, shift, out.mesh, st));
+      const Status moved = stitch_moved(rep.cells_out, shift, planes, out.mesh, st);
+      if (moved.code() == StatusCode::too_large) {  // the finer grid is past the stitcher's limits: seams stay
+        planes = detail::MovedPlanes();
+        out.mesh = Mesh();
+        st = StitchReport();
+      } else {
+        RESTITCH_TRY(moved);
+      }
+    }
+    if (!planes.any()) {
+      if constexpr (has_prepared_stitch_v<Stitcher>) {
+        RESTITCH_TRY(stitcher_.stitch(cache_, rep.cells_out, shift, out.mesh, st));
+      } else {
+        RESTITCH_TRY(stitcher_.stitch(*mesh_, grid_, rep.cells_out, shift, out.mesh, st));
+      }
     }
     rep.timings_ms["stitch"] = ms_since(t);
     for (int a = 0; a < 3; ++a)
@@ -650,7 +660,8 @@ class Retargeter {
 
   // Stitches a labelling whose planes moved: on the grid K times finer along the moved axes (each
   // K-th of a cell takes the label of the output cell it now lies in, shifts scaled by K), so the
-  // stitcher cuts at the moved planes. Its prepared cache is built once per set of moved axes.
+  // stitcher cuts at the moved planes. Its prepared cache is built once per set of moved axes. A grid
+  // past the stitcher's limits (too_large) makes the caller stitch on the cell planes instead.
   Status stitch_moved(const Eigen::Array3i& cells_out, const std::vector<Eigen::Array3i>& shift,
                       const detail::MovedPlanes& planes, Mesh& mesh, StitchReport& st) {
     Eigen::Array3i f = Eigen::Array3i::Ones();
