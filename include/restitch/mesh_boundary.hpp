@@ -51,8 +51,7 @@ inline std::vector<std::uint32_t> weld_positions(const Mesh& m, double tol) {
   const double h = 2.0 * tol, tol2 = tol * tol;
   const float* V = m.V.data();
   const auto cell_of = [h](const float* p) {
-    return detail::Cell{std::int64_t(std::floor(p[0] / h)), std::int64_t(std::floor(p[1] / h)),
-                        std::int64_t(std::floor(p[2] / h))};
+    return detail::Cell{detail::cell_index(p[0], h), detail::cell_index(p[1], h), detail::cell_index(p[2], h)};
   };
   detail::CellChains grid(nv);
   for (std::size_t i = 0; i < nv; ++i) grid.insert(cell_of(V + 3 * i), std::int32_t(i));

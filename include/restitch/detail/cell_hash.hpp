@@ -18,7 +18,9 @@
 // most, plus one int32 per chained item.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <utility>
@@ -27,6 +29,12 @@
 namespace restitch::detail {
 
 using Cell = std::array<std::int64_t, 3>;
+
+/// The cell index floor(x / h) of a coordinate, saturated at +-2^62 so that any finite coordinate
+/// (an unused vertex may lie anywhere) and its neighbours +-1 are representable (no overflow).
+inline std::int64_t cell_index(double x, double h) {
+  return std::int64_t(std::clamp(std::floor(x / h), -4611686018427387904.0, 4611686018427387904.0));
+}
 
 inline std::size_t hash_cell(const Cell& c) {
   std::uint64_t h = std::uint64_t(c[0]) * 0x9E3779B97F4A7C15ull;

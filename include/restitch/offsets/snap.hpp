@@ -58,8 +58,7 @@ inline SnapResult snap_offset(const Eigen::Matrix<double, Eigen::Dynamic, 3>& po
   // Hash grid with cells of start_radius: a query at radius r <= start_radius looks at 27 cells.
   const double h = options.start_radius;
   auto cell = [h](const Eigen::Vector3d& p) {  // saturated: a finite but huge offset must not overflow
-    const auto c = [h](double x) { return std::int64_t(std::clamp(std::floor(x / h), -4e18, 4e18)); };
-    return detail::Cell{c(p.x()), c(p.y()), c(p.z())};
+    return detail::Cell{detail::cell_index(p.x(), h), detail::cell_index(p.y(), h), detail::cell_index(p.z(), h)};
   };
   detail::CellChains grid{std::size_t(n)};
   for (Eigen::Index i = 0; i < n; ++i) grid.insert(cell(points.row(i).transpose()), std::int32_t(i));

@@ -133,8 +133,7 @@ inline std::size_t repair_t_junctions(StitchOutput& o, const Mesh& in, const Cli
   tv.erase(std::unique(tv.begin(), tv.end()), tv.end());
   const double h = std::max(total_length / double(open.size()), 2.0 * tol);
   const auto cell_of = [h](const Eigen::Vector3d& p) {
-    return Cell{std::int64_t(std::floor(p.x() / h)), std::int64_t(std::floor(p.y() / h)),
-                std::int64_t(std::floor(p.z() / h))};
+    return Cell{cell_index(p.x(), h), cell_index(p.y(), h), cell_index(p.z(), h)};
   };
   std::vector<Eigen::Vector3d> tpos(tv.size());
   CellChains grid(tv.size());

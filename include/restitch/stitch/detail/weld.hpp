@@ -82,8 +82,7 @@ inline std::vector<std::uint32_t> weld_map(const StitchOutput& o, const Mesh& in
   const double tol2 = tol * tol, h = 2.0 * tol;
   CellChains grid(ids.size());
   const auto cell_of = [h](const std::array<float, 3>& p) {
-    return Cell{std::int64_t(std::floor(p[0] / h)), std::int64_t(std::floor(p[1] / h)),
-                std::int64_t(std::floor(p[2] / h))};
+    return Cell{cell_index(p[0], h), cell_index(p[1], h), cell_index(p[2], h)};
   };
   for (std::size_t k = 0; k < ids.size(); ++k) grid.insert(cell_of(pos[k]), std::int32_t(k));
   for (std::size_t k = 0; k < ids.size(); ++k) {
