@@ -1,7 +1,9 @@
 // restitch: resize man-made 3D models along their repeats.
 #include <unistd.h>
 #include <cstdio>
+#include <exception>
 #include <iostream>
+#include <new>
 
 #include "cli.hpp"
 #include "restitch/detail/file.hpp"
@@ -88,6 +90,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     app.exit(e);
     return exit_usage;
+  } catch (const std::bad_alloc&) {  // the library returns a Status; this is the tool's own code (JSON, text)
+    std::fputs("restitch: out of memory\n", stderr);
+    return exit_request;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "restitch: internal error: %s\n", e.what());
+    return exit_internal;
   }
   return exit_code;
 }

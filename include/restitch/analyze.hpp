@@ -460,44 +460,47 @@ Result<Analysis> analyze(const Mesh& mesh, const AnalysisOptions<D, M, Det>& opt
                 "restitch::analyze: the offset detector policy must provide `static constexpr const char* name` "
                 "and `Status detect(const OffsetEvidence&, OffsetDetection&, const Progress&) const` "
                 "(see restitch/offsets/detector.hpp)");
-  RESTITCH_TRY(detail::check_analysis_options(options));
-  RESTITCH_TRY(validate(mesh));
+  return detail::guarded("analyze", [&]() -> Result<Analysis> {
+    RESTITCH_TRY(detail::check_analysis_options(options));
+    RESTITCH_TRY(validate(mesh));
 
-  Analysis a;
-  a.descriptor_name = policy_name(options.descriptor);
-  a.matcher_name = policy_name(options.matcher);
-  a.detector_name = policy_name(options.detector);
-  a.normalization = Normalization::of(bounding_box(mesh));
-  std::map<std::string, double>& timings = a.timings_ms;
+    Analysis a;
+    a.descriptor_name = policy_name(options.descriptor);
+    a.matcher_name = policy_name(options.matcher);
+    a.detector_name = policy_name(options.detector);
+    a.normalization = Normalization::of(bounding_box(mesh));
+    std::map<std::string, double>& timings = a.timings_ms;
 
-  PointSet anchors;  // the vertex features, for the offset refinement
-  RESTITCH_TRY(detail::analysis_stage("sampling", progress, timings,
-                                      [&] { return detail::sample_features(mesh, options, progress, a, anchors); }));
-  RESTITCH_TRY(detail::analysis_stage("descriptors", progress, timings, [&]() -> Status {
-    RESTITCH_TRY(options.descriptor.compute(a.dense, a.features, a.descriptors, progress));
-    if (a.descriptors.rows() != a.features.size())
-      return error(StatusCode::internal, "the descriptor policy returned a wrong number of rows");
-    return {};
-  }));
-  if constexpr (detector_uses_matches_v<Det>)  // a detector that ignores matches (autocorrelation) skips the stage
-    RESTITCH_TRY(detail::analysis_stage("matching", progress, timings, [&]() -> Status {
-      RESTITCH_TRY(options.matcher.match(a.features, a.descriptors, options.tau, a.matches, progress));
-      if (a.matches.size() != std::size_t(a.features.size()))
-        return error(StatusCode::internal, "the matcher policy returned a wrong number of matches");
+    PointSet anchors;  // the vertex features, for the offset refinement
+    RESTITCH_TRY(detail::analysis_stage("sampling", progress, timings,
+                                        [&] { return detail::sample_features(mesh, options, progress, a, anchors); }));
+    RESTITCH_TRY(detail::analysis_stage("descriptors", progress, timings, [&]() -> Status {
+      RESTITCH_TRY(options.descriptor.compute(a.dense, a.features, a.descriptors, progress));
+      if (a.descriptors.rows() != a.features.size())
+        return error(StatusCode::internal, "the descriptor policy returned a wrong number of rows");
       return {};
     }));
-  {  // Offset detection: the detector reports its own stages ("histogram" or "autocorrelation", "refinement").
-    OffsetDetection det;
-    const OffsetEvidence evidence{a.dense, a.features, a.matches, options.dense_spacing, double(options.tau), &anchors};
-    RESTITCH_TRY(options.detector.detect(evidence, det, progress));
-    a.dominant = std::move(det.dominant);
-    a.sparsity = det.sparsity;
-    a.histogram_peaks = det.peaks;
-    for (const auto& kv : det.timings_ms) timings[kv.first] = kv.second;
-  }
-  RESTITCH_TRY(detail::analysis_stage("lattice", progress, timings,
-                                      [&] { return detail::fit_principal_lattice(mesh, options, a); }));
-  return a;
+    if constexpr (detector_uses_matches_v<Det>)  // a detector that ignores matches (autocorrelation) skips the stage
+      RESTITCH_TRY(detail::analysis_stage("matching", progress, timings, [&]() -> Status {
+        RESTITCH_TRY(options.matcher.match(a.features, a.descriptors, options.tau, a.matches, progress));
+        if (a.matches.size() != std::size_t(a.features.size()))
+          return error(StatusCode::internal, "the matcher policy returned a wrong number of matches");
+        return {};
+      }));
+    {  // Offset detection: the detector reports its own stages ("histogram" or "autocorrelation", "refinement").
+      OffsetDetection det;
+      const OffsetEvidence evidence{a.dense, a.features, a.matches, options.dense_spacing, double(options.tau),
+                                    &anchors};
+      RESTITCH_TRY(options.detector.detect(evidence, det, progress));
+      a.dominant = std::move(det.dominant);
+      a.sparsity = det.sparsity;
+      a.histogram_peaks = det.peaks;
+      for (const auto& kv : det.timings_ms) timings[kv.first] = kv.second;
+    }
+    RESTITCH_TRY(detail::analysis_stage("lattice", progress, timings,
+                                        [&] { return detail::fit_principal_lattice(mesh, options, a); }));
+    return a;
+  });
 }
 
 /// Makes `offsets` (model units, at most three, pairwise at least `options.min_angle` apart) the first
@@ -513,56 +516,59 @@ Result<Analysis> analyze(const Mesh& mesh, const AnalysisOptions<D, M, Det>& opt
 template <class D, class M, class Det>
 Status promote_offsets(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
                        const std::vector<Eigen::Vector3d>& offsets, Analysis& a) {
-  RESTITCH_TRY(detail::check_analysis_options(options));
-  if (offsets.size() > 3) return error(StatusCode::invalid_argument, "at most three offsets can be made principal");
-  for (std::size_t i = 0; i < offsets.size(); ++i) {
-    if (!offsets[i].allFinite() || !(offsets[i].norm() > 0))
-      return error(StatusCode::invalid_argument, "offset " + std::to_string(i + 1) + " is zero or not finite");
-    for (std::size_t j = 0; j < i; ++j)
-      if (!far_enough_apart(offsets[i], offsets[j], options.min_angle))
-        return error(StatusCode::invalid_argument, "offsets " + std::to_string(j + 1) + " and " +
-                                                       std::to_string(i + 1) + " are too close in direction");
-  }
-  if (a.dense.size() == 0) return error(StatusCode::invalid_argument, "the analysis has no samples");
-  Analysis b = a;
-  for (const int i : b.promoted) b.dominant[std::size_t(i)].promoted = false;
-  b.promoted.clear();
-  IcpOptions icp = SignificanceOptions{}.icp;
-  icp.spacing = options.dense_spacing;
-  const PointSet anchors = detail::vertex_anchors(b);
-  const SelfAligner aligner(b.dense, icp, anchors.size() ? &anchors : nullptr);
-  const double radius = icp.overlap_radius();
-  for (std::size_t i = 0; i < offsets.size(); ++i) {
-    const Eigen::Vector3d t = aligner.refine(b.normalization.to_normalized_offset(offsets[i])).offset;
-    if (!(t.norm() > radius))
-      return error(StatusCode::invalid_argument, "offset " + std::to_string(i + 1) +
-                                                     " is no repeat: refined, it slides onto the model itself");
-    int found = -1;
-    for (std::size_t k = 0; k < b.dominant.size() && found < 0; ++k)
-      if ((b.dominant[k].offset - t).norm() <= radius || (b.dominant[k].offset + t).norm() <= radius) found = int(k);
-    if (found < 0) {  // a new dominant offset, tested like the detector's
-      const PointSet no_features;
-      const std::vector<Match> no_matches;
-      const OffsetEvidence evidence{b.dense,   no_features, no_matches, options.dense_spacing,
-                                    0.0,       anchors.size() ? &anchors : nullptr};
-      std::vector<DominantOffset> added;
-      RESTITCH_TRY(refine_and_test(evidence, {OffsetCandidate{t, 0, 0, {}}}, SignificanceOptions{}, {}, added));
-      if (added.empty()) return error(StatusCode::internal, "the promoted offset was not refined");
-      found = int(b.dominant.size());
-      b.dominant.push_back(added.front());
+  return detail::guarded("promote_offsets", [&]() -> Status {
+    RESTITCH_TRY(detail::check_analysis_options(options));
+    if (offsets.size() > 3) return error(StatusCode::invalid_argument, "at most three offsets can be made principal");
+    for (std::size_t i = 0; i < offsets.size(); ++i) {
+      if (!offsets[i].allFinite() || !(offsets[i].norm() > 0))
+        return error(StatusCode::invalid_argument, "offset " + std::to_string(i + 1) + " is zero or not finite");
+      for (std::size_t j = 0; j < i; ++j)
+        if (!far_enough_apart(offsets[i], offsets[j], options.min_angle))
+          return error(StatusCode::invalid_argument, "offsets " + std::to_string(j + 1) + " and " +
+                                                         std::to_string(i + 1) + " are too close in direction");
     }
-    if (b.dominant[std::size_t(found)].promoted)
-      return error(StatusCode::invalid_argument, "offsets " + std::to_string(i + 1) + " and an earlier one are the same");
-    b.dominant[std::size_t(found)].promoted = true;
-    b.promoted.push_back(found);
-  }
-  const auto t0 = std::chrono::steady_clock::now();
-  Eigen::Matrix<double, Eigen::Dynamic, 3> P;
-  if (options.snap_to_vertices) P = detail::unique_normalized_vertices(mesh, b.normalization);
-  RESTITCH_TRY(detail::select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, b));
-  b.timings_ms["promotion"] = detail::elapsed_ms(t0);
-  a = std::move(b);
-  return {};
+    if (a.dense.size() == 0) return error(StatusCode::invalid_argument, "the analysis has no samples");
+    Analysis b = a;
+    for (const int i : b.promoted) b.dominant[std::size_t(i)].promoted = false;
+    b.promoted.clear();
+    IcpOptions icp = SignificanceOptions{}.icp;
+    icp.spacing = options.dense_spacing;
+    const PointSet anchors = detail::vertex_anchors(b);
+    const SelfAligner aligner(b.dense, icp, anchors.size() ? &anchors : nullptr);
+    const double radius = icp.overlap_radius();
+    for (std::size_t i = 0; i < offsets.size(); ++i) {
+      const Eigen::Vector3d t = aligner.refine(b.normalization.to_normalized_offset(offsets[i])).offset;
+      if (!(t.norm() > radius))
+        return error(StatusCode::invalid_argument,
+                     "offset " + std::to_string(i + 1) + " is no repeat: refined, it slides onto the model itself");
+      int found = -1;
+      for (std::size_t k = 0; k < b.dominant.size() && found < 0; ++k)
+        if ((b.dominant[k].offset - t).norm() <= radius || (b.dominant[k].offset + t).norm() <= radius) found = int(k);
+      if (found < 0) {  // a new dominant offset, tested like the detector's
+        const PointSet no_features;
+        const std::vector<Match> no_matches;
+        const OffsetEvidence evidence{
+            b.dense, no_features, no_matches, options.dense_spacing, 0.0, anchors.size() ? &anchors : nullptr};
+        std::vector<DominantOffset> added;
+        RESTITCH_TRY(refine_and_test(evidence, {OffsetCandidate{t, 0, 0, {}}}, SignificanceOptions{}, {}, added));
+        if (added.empty()) return error(StatusCode::internal, "the promoted offset was not refined");
+        found = int(b.dominant.size());
+        b.dominant.push_back(added.front());
+      }
+      if (b.dominant[std::size_t(found)].promoted)
+        return error(StatusCode::invalid_argument,
+                     "offsets " + std::to_string(i + 1) + " and an earlier one are the same");
+      b.dominant[std::size_t(found)].promoted = true;
+      b.promoted.push_back(found);
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    Eigen::Matrix<double, Eigen::Dynamic, 3> P;
+    if (options.snap_to_vertices) P = detail::unique_normalized_vertices(mesh, b.normalization);
+    RESTITCH_TRY(detail::select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, b));
+    b.timings_ms["promotion"] = detail::elapsed_ms(t0);
+    a = std::move(b);
+    return {};
+  });
 }
 
 }  // namespace restitch

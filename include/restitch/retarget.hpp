@@ -246,19 +246,20 @@ class Retargeter {
   Retargeter(const Mesh& mesh, const Analysis& analysis, RetargetOptions options = {}, LabelSpace labels = {},
              Solver solver = {}, Stitcher stitcher = {})
       : mesh_(&mesh), analysis_(&analysis), options_(options), space_(labels), solver_(solver), stitcher_(stitcher) {
-    status_ = space_.grid(mesh, analysis, grid_);
-    if (!status_) return;
-    if (std::int64_t(grid_.cells.prod()) > std::int64_t(options_.max_problem_size))
-      status_ = error(StatusCode::too_large, "the label grid has " + std::to_string(grid_.cells.prod()) +
-                                                 " cells, more than max_problem_size (" +
-                                                 std::to_string(options_.max_problem_size) + ")");
-    if (!status_) return;
-    cells_ = std::make_unique<CellDescriptors>(analysis, grid_, options_.set_distance);
-    slabs_ = std::make_unique<CellSlabs>(analysis, grid_);
-    if constexpr (has_prepared_stitch_v<Stitcher>) status_ = stitcher_.prepare(mesh, grid_, cache_);
-    box_in_ = bounding_box(mesh);
-    size_in_ = box_in_.size();
-    if (options_.boundary_edges) boundary_edges_in_ = boundary_edge_count(mesh);
+    status_ = detail::guarded("Retargeter", [&]() -> Status {
+      RESTITCH_TRY(space_.grid(mesh, analysis, grid_));
+      if (std::int64_t(grid_.cells.prod()) > std::int64_t(options_.max_problem_size))
+        return error(StatusCode::too_large, "the label grid has " + std::to_string(grid_.cells.prod()) +
+                                                " cells, more than max_problem_size (" +
+                                                std::to_string(options_.max_problem_size) + ")");
+      cells_ = std::make_unique<CellDescriptors>(analysis, grid_, options_.set_distance);
+      slabs_ = std::make_unique<CellSlabs>(analysis, grid_);
+      if constexpr (has_prepared_stitch_v<Stitcher>) RESTITCH_TRY(stitcher_.prepare(mesh, grid_, cache_));
+      box_in_ = bounding_box(mesh);
+      size_in_ = box_in_.size();
+      if (options_.boundary_edges) boundary_edges_in_ = boundary_edge_count(mesh);
+      return {};
+    });
   }
 
   /// ok when the grid and caches were built; otherwise why not.
@@ -271,120 +272,124 @@ class Retargeter {
 
   /// Resizes by `steps` along the principal offsets (see the header comment).
   Result<RetargetResult> retarget(const Eigen::Array3i& steps, const Progress& progress = {}) {
-    using clock = std::chrono::steady_clock;
-    const auto t0 = clock::now();
-    auto ms_since = [](clock::time_point t) {
-      return std::chrono::duration<double, std::milli>(clock::now() - t).count();
-    };
-    RESTITCH_TRY(status_);
-    RetargetResult out;
-    RetargetReport& rep = out.report;
-    RESTITCH_TRY(plan(steps, rep));
-    out.grid = grid_;
-    const Eigen::Array3i k = rep.grid_steps;
-    const double nodes = double(rep.cells_out.prod());
+    return detail::guarded("retarget", [&]() -> Result<RetargetResult> {
+      using clock = std::chrono::steady_clock;
+      const auto t0 = clock::now();
+      auto ms_since = [](clock::time_point t) {
+        return std::chrono::duration<double, std::milli>(clock::now() - t).count();
+      };
+      RESTITCH_TRY(status_);
+      RetargetResult out;
+      RetargetReport& rep = out.report;
+      RESTITCH_TRY(plan(steps, rep));
+      out.grid = grid_;
+      const Eigen::Array3i k = rep.grid_steps;
+      const double nodes = double(rep.cells_out.prod());
 
-    if ((k == 0).all()) {  // nothing to do: the input, unchanged
-      out.mesh = *mesh_;
-      rep.nodes = int(nodes), rep.labels = 1, rep.regions = 1;
-      rep.triangles_out = rep.triangles_in;
-      rep.vertices_out = out.mesh.vertex_count();
-      rep.boundary_edges_out = rep.boundary_edges_in;
-      rep.size_out = size_in_;
-      rep.placement = place(analysis_->lattice, box_in_, Eigen::Array3i::Zero(), options_.pivot);  // not moved
-      rep.size_nearest = size_in_;
-      out.labels = {Eigen::Array3i::Zero()};
-      out.cell_labels.assign(std::size_t(nodes), 0);
-      if (options_.face_labels) out.face_labels.assign(out.mesh.triangle_count(), 0);
-      rep.timings_ms["total"] = ms_since(t0);
-      return out;
-    }
-
-    if (!progress.report("energy", 0.0)) return error(StatusCode::cancelled, "cancelled");
-    auto t = clock::now();
-    SeamMrf problem = make_problem(k);
-    rep.timings_ms["energy"] = ms_since(t);
-    rep.nodes = problem.node_count();
-    rep.labels = problem.label_count();
-    rep.edges = problem.edge_count();
-
-    t = clock::now();
-    std::vector<int> labelling = problem.initial_labels();
-    SolveReport solve;
-    RESTITCH_TRY(solver_.solve(problem, labelling, solve, progress));
-    rep.timings_ms["solve"] = ms_since(t);
-    rep.cycles = solve.cycles;
-    rep.energy = solve.energy;
-    rep.non_metric = solve.non_metric_detected;
-
-    out.labels = problem.labels();
-    out.cell_labels = labelling;
-    std::vector<Eigen::Array3i> shift(labelling.size());
-    for (std::size_t x = 0; x < labelling.size(); ++x) shift[x] = out.labels[std::size_t(labelling[x])];
-
-    if (!progress.report("stitching", 0.0)) return error(StatusCode::cancelled, "cancelled");
-    t = clock::now();
-    detail::MovedPlanes planes = move_seams(k, rep.cells_out, shift);
-    rep.timings_ms["seam planes"] = ms_since(t);
-    t = clock::now();
-    StitchReport st;
-    if (planes.any()) {
-      const Status moved = stitch_moved(rep.cells_out, shift, planes, out.mesh, st);
-      if (moved.code() == StatusCode::too_large) {  // the finer grid is past the stitcher's limits: seams stay
-        planes = detail::MovedPlanes();
-        out.mesh = Mesh();
-        st = StitchReport();
-      } else {
-        RESTITCH_TRY(moved);
+      if ((k == 0).all()) {  // nothing to do: the input, unchanged
+        out.mesh = *mesh_;
+        rep.nodes = int(nodes), rep.labels = 1, rep.regions = 1;
+        rep.triangles_out = rep.triangles_in;
+        rep.vertices_out = out.mesh.vertex_count();
+        rep.boundary_edges_out = rep.boundary_edges_in;
+        rep.size_out = size_in_;
+        rep.placement = place(analysis_->lattice, box_in_, Eigen::Array3i::Zero(), options_.pivot);  // not moved
+        rep.size_nearest = size_in_;
+        out.labels = {Eigen::Array3i::Zero()};
+        out.cell_labels.assign(std::size_t(nodes), 0);
+        if (options_.face_labels) out.face_labels.assign(out.mesh.triangle_count(), 0);
+        rep.timings_ms["total"] = ms_since(t0);
+        return out;
       }
-    }
-    if (!planes.any()) {
-      if constexpr (has_prepared_stitch_v<Stitcher>) {
-        RESTITCH_TRY(stitcher_.stitch(cache_, rep.cells_out, shift, out.mesh, st));
-      } else {
-        RESTITCH_TRY(stitcher_.stitch(*mesh_, grid_, rep.cells_out, shift, out.mesh, st));
-      }
-    }
-    rep.timings_ms["stitch"] = ms_since(t);
-    for (int a = 0; a < 3; ++a)
-      if (planes.moved(a)) {
-        rep.plane_offsets[std::size_t(a)].clear();
-        for (const int j : planes.j[std::size_t(a)]) {
-          rep.plane_offsets[std::size_t(a)].push_back(double(j) / planes.K);
-          rep.seams_moved += j != 0;
+
+      if (!progress.report("energy", 0.0)) return error(StatusCode::cancelled, "cancelled");
+      auto t = clock::now();
+      SeamMrf problem = make_problem(k);
+      rep.timings_ms["energy"] = ms_since(t);
+      rep.nodes = problem.node_count();
+      rep.labels = problem.label_count();
+      rep.edges = problem.edge_count();
+
+      t = clock::now();
+      std::vector<int> labelling = problem.initial_labels();
+      SolveReport solve;
+      RESTITCH_TRY(solver_.solve(problem, labelling, solve, progress));
+      rep.timings_ms["solve"] = ms_since(t);
+      rep.cycles = solve.cycles;
+      rep.energy = solve.energy;
+      rep.non_metric = solve.non_metric_detected;
+
+      out.labels = problem.labels();
+      out.cell_labels = labelling;
+      std::vector<Eigen::Array3i> shift(labelling.size());
+      for (std::size_t x = 0; x < labelling.size(); ++x) shift[x] = out.labels[std::size_t(labelling[x])];
+
+      if (!progress.report("stitching", 0.0)) return error(StatusCode::cancelled, "cancelled");
+      t = clock::now();
+      detail::MovedPlanes planes = move_seams(k, rep.cells_out, shift);
+      rep.timings_ms["seam planes"] = ms_since(t);
+      t = clock::now();
+      StitchReport st;
+      if (planes.any()) {
+        const Status moved = stitch_moved(rep.cells_out, shift, planes, out.mesh, st);
+        if (moved.code() == StatusCode::too_large) {  // the finer grid is past the stitcher's limits: seams stay
+          planes = detail::MovedPlanes();
+          out.mesh = Mesh();
+          st = StitchReport();
+        } else {
+          RESTITCH_TRY(moved);
         }
       }
-    t = clock::now();
-    measure_seams(k, rep.cells_out, shift, planes, rep);
-    rep.timings_ms["seams"] = ms_since(t);
-    rep.regions = st.regions;
-    rep.triangles_out = out.mesh.triangle_count();
-    rep.vertices_out = out.mesh.vertex_count();
-    if (options_.boundary_edges) {
+      if (!planes.any()) {
+        if constexpr (has_prepared_stitch_v<Stitcher>) {
+          RESTITCH_TRY(stitcher_.stitch(cache_, rep.cells_out, shift, out.mesh, st));
+        } else {
+          RESTITCH_TRY(stitcher_.stitch(*mesh_, grid_, rep.cells_out, shift, out.mesh, st));
+        }
+      }
+      rep.timings_ms["stitch"] = ms_since(t);
+      for (int a = 0; a < 3; ++a)
+        if (planes.moved(a)) {
+          rep.plane_offsets[std::size_t(a)].clear();
+          for (const int j : planes.j[std::size_t(a)]) {
+            rep.plane_offsets[std::size_t(a)].push_back(double(j) / planes.K);
+            rep.seams_moved += j != 0;
+          }
+        }
       t = clock::now();
-      rep.boundary_edges_out = boundary_edge_count(out.mesh);
-      rep.timings_ms["boundary"] = ms_since(t);
-    }
-    if (options_.face_labels) out.face_labels = face_labels(out.mesh, rep, labelling);
-    // Placement: whole periods, so that the pivot stays put (placement.hpp).
-    rep.placement = place(analysis_->lattice, box_in_, rep.steps, options_.pivot);
-    translate(out.mesh, rep.placement.translation);
-    out.grid.origin += rep.placement.translation;
-    rep.size_out = out.mesh.empty() ? Eigen::Vector3d::Zero() : bounding_box(out.mesh).size();
-    rep.size_nearest = rep.size_out;
-    rep.timings_ms["total"] = ms_since(t0);
-    progress.report("stitching", 1.0);
-    if (out.mesh.empty())
-      return error(StatusCode::internal, "the labelling left every output cell empty; please report this model");
-    return out;
+      measure_seams(k, rep.cells_out, shift, planes, rep);
+      rep.timings_ms["seams"] = ms_since(t);
+      rep.regions = st.regions;
+      rep.triangles_out = out.mesh.triangle_count();
+      rep.vertices_out = out.mesh.vertex_count();
+      if (options_.boundary_edges) {
+        t = clock::now();
+        rep.boundary_edges_out = boundary_edge_count(out.mesh);
+        rep.timings_ms["boundary"] = ms_since(t);
+      }
+      if (options_.face_labels) out.face_labels = face_labels(out.mesh, rep, labelling);
+      // Placement: whole periods, so that the pivot stays put (placement.hpp).
+      rep.placement = place(analysis_->lattice, box_in_, rep.steps, options_.pivot);
+      translate(out.mesh, rep.placement.translation);
+      out.grid.origin += rep.placement.translation;
+      rep.size_out = out.mesh.empty() ? Eigen::Vector3d::Zero() : bounding_box(out.mesh).size();
+      rep.size_nearest = rep.size_out;
+      rep.timings_ms["total"] = ms_since(t0);
+      progress.report("stitching", 1.0);
+      if (out.mesh.empty())
+        return error(StatusCode::internal, "the labelling left every output cell empty; please report this model");
+      return out;
+    });
   }
 
   /// The labelling problem a request solves (for --dump-mrf and benchmarks).
   Result<SeamMrf> labelling_problem(const Eigen::Array3i& steps) {
-    RESTITCH_TRY(status_);
-    RetargetReport rep;
-    RESTITCH_TRY(plan(steps, rep));
-    return make_problem(rep.grid_steps);
+    return detail::guarded("labelling_problem", [&]() -> Result<SeamMrf> {
+      RESTITCH_TRY(status_);
+      RetargetReport rep;
+      RESTITCH_TRY(plan(steps, rep));
+      return make_problem(rep.grid_steps);
+    });
   }
 
   /// The geometric seam measure this Retargeter reports with (and solves with, by default).
@@ -398,28 +403,30 @@ class Retargeter {
   /// (world_axis_of). A component equal to the current size (within 1e-5 of
   /// it, relative) is no change.
   Result<Eigen::Array3i> steps_for_size(const Eigen::Vector3d& target, int max_steps = 64) const {
-    RESTITCH_TRY(status_);
-    RESTITCH_TRY(check_size(target));
-    const Lattice& L = analysis_->lattice;
-    Eigen::Vector3d want = target;
-    for (int i = 0; i < 3; ++i)
-      if (!(want[i] > 0)) want[i] = size_in_[i];
-    Eigen::Array3i lo = Eigen::Array3i::Zero(), hi = Eigen::Array3i::Zero();
-    for (int a = 0; a < 3; ++a)
-      if (!L.dummy[a]) lo[a] = 1 - L.cells[a], hi[a] = max_steps;
-    Eigen::Array3i best = Eigen::Array3i::Zero();
-    double best_err = INFINITY;
-    for (int w = lo[2]; w <= hi[2]; ++w)
-      for (int v = lo[1]; v <= hi[1]; ++v)
-        for (int u = lo[0]; u <= hi[0]; ++u) {
-          // Each step along v_a moves the far end by v_a: the box grows by |v_a| per component.
-          Eigen::Vector3d size = size_in_;
-          const Eigen::Array3i s(u, v, w);
-          for (int a = 0; a < 3; ++a) size += L.A.col(a).cwiseAbs() * s[a];
-          const double err = (size - want).cwiseQuotient(size_in_.cwiseMax(1e-12)).squaredNorm();
-          if (err < best_err - 1e-12) best_err = err, best = s;
-        }
-    return best;
+    return detail::guarded("steps_for_size", [&]() -> Result<Eigen::Array3i> {
+      RESTITCH_TRY(status_);
+      RESTITCH_TRY(check_size(target));
+      const Lattice& L = analysis_->lattice;
+      Eigen::Vector3d want = target;
+      for (int i = 0; i < 3; ++i)
+        if (!(want[i] > 0)) want[i] = size_in_[i];
+      Eigen::Array3i lo = Eigen::Array3i::Zero(), hi = Eigen::Array3i::Zero();
+      for (int a = 0; a < 3; ++a)
+        if (!L.dummy[a]) lo[a] = 1 - L.cells[a], hi[a] = max_steps;
+      Eigen::Array3i best = Eigen::Array3i::Zero();
+      double best_err = INFINITY;
+      for (int w = lo[2]; w <= hi[2]; ++w)
+        for (int v = lo[1]; v <= hi[1]; ++v)
+          for (int u = lo[0]; u <= hi[0]; ++u) {
+            // Each step along v_a moves the far end by v_a: the box grows by |v_a| per component.
+            Eigen::Vector3d size = size_in_;
+            const Eigen::Array3i s(u, v, w);
+            for (int a = 0; a < 3; ++a) size += L.A.col(a).cwiseAbs() * s[a];
+            const double err = (size - want).cwiseQuotient(size_in_.cwiseMax(1e-12)).squaredNorm();
+            if (err < best_err - 1e-12) best_err = err, best = s;
+          }
+      return best;
+    });
   }
 
   /// Resizes to the bounding-box size `target` (model units, 0 keeps an axis): the nearest whole repeats
@@ -427,23 +434,25 @@ class Retargeter {
   /// axis asked for (component > 0) about the pivot point, by target / size, so its box is `target`
   /// exactly (to float rounding); the report gives the factors and the size before scaling.
   Result<RetargetResult> retarget_to_size(const Eigen::Vector3d& target, bool exact, const Progress& progress = {}) {
-    Result<Eigen::Array3i> steps = steps_for_size(target);
-    RESTITCH_TRY(steps.status());
-    Result<RetargetResult> out = retarget(*steps, progress);
-    RESTITCH_TRY(out.status());
-    RetargetReport& rep = out->report;
-    if (!exact) return out;
-    rep.exact = true;
-    for (int i = 0; i < 3; ++i)
-      if (target[i] > 0 && rep.size_out[i] > 0) rep.scale[i] = target[i] / rep.size_out[i];
-    if (rep.scale != Eigen::Vector3d::Ones()) {
-      const Eigen::Vector3d& p = rep.placement.pivot;
-      scale_about(out->mesh, rep.scale, p);
-      out->grid.A = rep.scale.asDiagonal() * out->grid.A;
-      out->grid.origin = p + rep.scale.asDiagonal() * (out->grid.origin - p);
-      rep.size_out = bounding_box(out->mesh).size();
-    }
-    return out;
+    return detail::guarded("retarget_to_size", [&]() -> Result<RetargetResult> {
+      Result<Eigen::Array3i> steps = steps_for_size(target);
+      RESTITCH_TRY(steps.status());
+      Result<RetargetResult> out = retarget(*steps, progress);
+      RESTITCH_TRY(out.status());
+      RetargetReport& rep = out->report;
+      if (!exact) return out;
+      rep.exact = true;
+      for (int i = 0; i < 3; ++i)
+        if (target[i] > 0 && rep.size_out[i] > 0) rep.scale[i] = target[i] / rep.size_out[i];
+      if (rep.scale != Eigen::Vector3d::Ones()) {
+        const Eigen::Vector3d& p = rep.placement.pivot;
+        scale_about(out->mesh, rep.scale, p);
+        out->grid.A = rep.scale.asDiagonal() * out->grid.A;
+        out->grid.origin = p + rep.scale.asDiagonal() * (out->grid.origin - p);
+        rep.size_out = bounding_box(out->mesh).size();
+      }
+      return out;
+    });
   }
 
   /// ok, or why `target` cannot be asked for (see steps_for_size).

@@ -3,6 +3,12 @@
 // restitch never throws across its API: the same code runs as WebAssembly,
 // where exceptions are off. Every public entry point returns a `Status` (for
 // calls that fill an out-parameter) or a `Result<T>` (a value or a Status).
+// Where C++ exceptions are on, each entry point also runs its body under
+// detail::guarded: an allocation that fails (std::bad_alloc, std::length_error)
+// comes back as too_large ("<call>: out of memory"), anything else thrown (a
+// bug, or a custom policy that throws) as internal; no exception escapes. With
+// exceptions off (WebAssembly), a failed allocation aborts the module instead,
+// and the web demo's worker replaces it (demo_web/src/worker.js).
 // A Status carries a code a program can branch on and a message a user can
 // act on ("accessor 3 reads past the end of buffer 0", not "error -3").
 //
@@ -12,6 +18,9 @@
 #pragma once
 
 #include <cassert>
+#include <exception>
+#include <new>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <variant>
@@ -105,6 +114,49 @@ class Result {
  private:
   std::variant<T, Status> v_;
 };
+
+namespace detail {
+
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+inline constexpr bool exceptions_enabled = true;
+#else
+inline constexpr bool exceptions_enabled = false;
+#endif
+
+// The Status of an exception caught at an entry point. Building its message allocates; if that fails
+// too (memory is still short), the Status carries the code alone.
+inline Status status_of_exception(StatusCode code, const char* call, const char* what) noexcept {
+  try {
+    return Status(code, std::string(call) + ": " + what);
+  } catch (...) {
+    return Status(code, std::string());
+  }
+}
+
+/// Runs `body` (returning a Status or a Result<T>) and returns what it returns; an exception thrown
+/// inside becomes the returned Status: std::bad_alloc and std::length_error (a request for more memory
+/// than there is) too_large, anything else internal. `call` names the entry point in the message.
+template <class F>
+auto guarded(const char* call, F&& body) noexcept -> decltype(body()) {
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+  try {
+    return body();
+  } catch (const std::bad_alloc&) {
+    return status_of_exception(StatusCode::too_large, call,
+                               "out of memory (the model or request needs more memory than is available)");
+  } catch (const std::length_error&) {
+    return status_of_exception(StatusCode::too_large, call, "out of memory (a size past what can be allocated)");
+  } catch (const std::exception& e) {
+    return status_of_exception(StatusCode::internal, call, e.what());
+  } catch (...) {
+    return status_of_exception(StatusCode::internal, call, "an unknown exception");
+  }
+#else
+  return body();
+#endif
+}
+
+}  // namespace detail
 
 }  // namespace restitch
 

@@ -130,92 +130,94 @@ struct FpfhDescriptor {
 
   Status compute(const PointSet& support, const PointSet& queries, DescriptorMatrix& out,
                  const Progress& progress = Progress()) const {
-    RESTITCH_TRY(detail::check_descriptor_input("FPFH", radius, support, queries));
-    const Eigen::Index nq = queries.size();
-    const Eigen::Index ns = support.size();
-    out.resize(nq, 33);
-    if (nq == 0) return Status();
+    return detail::guarded("FpfhDescriptor::compute", [&]() -> Status {
+      RESTITCH_TRY(detail::check_descriptor_input("FPFH", radius, support, queries));
+      const Eigen::Index nq = queries.size();
+      const Eigen::Index ns = support.size();
+      out.resize(nq, 33);
+      if (nq == 0) return Status();
 
-    const detail::RadiusSearch search(support.points, static_cast<double>(radius));
-    constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
-    // The three passes (query neighbourhoods, SPFHs, weighting) report
-    // fractions in [0, 0.25), [0.25, 0.75), [0.75, 1].
-    auto cancelled = [&](Eigen::Index done, Eigen::Index total, double from, double span) {
-      return done % detail::descriptor_progress_stride == 0 && done > 0 &&
-             !progress.report("descriptors", from + span * static_cast<double>(done) / static_cast<double>(total));
-    };
+      const detail::RadiusSearch search(support.points, static_cast<double>(radius));
+      constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+      // The three passes (query neighbourhoods, SPFHs, weighting) report
+      // fractions in [0, 0.25), [0.25, 0.75), [0.75, 1].
+      auto cancelled = [&](Eigen::Index done, Eigen::Index total, double from, double span) {
+        return done % detail::descriptor_progress_stride == 0 && done > 0 &&
+               !progress.report("descriptors", from + span * static_cast<double>(done) / static_cast<double>(total));
+      };
 
-    // Pass 1: each query's neighbours (CSR), and which support points need an SPFH.
-    std::vector<detail::Neighbour> nn, all;
-    nn.reserve(256);
-    std::vector<std::size_t> begin(static_cast<std::size_t>(nq) + 1, 0);
-    std::vector<std::uint32_t> spfh_row(static_cast<std::size_t>(ns), none);
-    for (Eigen::Index i = 0; i < nq; ++i) {
-      if (cancelled(i, nq, 0.0, 0.25)) return error(StatusCode::cancelled, "FPFH: cancelled");
-      search.find(queries.points.row(i).data(), nn);
-      all.insert(all.end(), nn.begin(), nn.end());
-      begin[i + 1] = all.size();
-      for (const detail::Neighbour& n : nn) spfh_row[n.index] = 0;
-    }
-    std::uint32_t needed = 0;
-    for (std::uint32_t& row : spfh_row) {
-      if (row != none) row = needed++;
-    }
-
-    // Pass 2: SPFH of every needed support point, over its support neighbourhood.
-    std::vector<float> spfh(static_cast<std::size_t>(needed) * 33, 0.0f);
-    const float d_pi = 1.0f / (2.0f * static_cast<float>(detail::fpfh_pi));
-    for (Eigen::Index s = 0, done = 0; s < ns; ++s) {
-      const std::uint32_t row = spfh_row[s];
-      if (row == none) continue;
-      if (cancelled(++done, needed, 0.25, 0.5)) return error(StatusCode::cancelled, "FPFH: cancelled");
-      search.find(support.points.row(s).data(), nn);
-      float* h = &spfh[static_cast<std::size_t>(row) * 33];
-      if (nn.size() < 2) continue;  // no pair: SPFH stays zero
-      const float incr = 100.0f / static_cast<float>(nn.size() - 1);
-      const Eigen::Vector4f p(support.points(s, 0), support.points(s, 1), support.points(s, 2), 1.0f);
-      const Eigen::Vector4f n_p(support.normals(s, 0), support.normals(s, 1), support.normals(s, 2), 0.0f);
-      for (const detail::Neighbour& n : nn) {
-        if (n.index == static_cast<std::uint32_t>(s)) continue;
-        const Eigen::Index j = n.index;
-        const Eigen::Vector4f q(support.points(j, 0), support.points(j, 1), support.points(j, 2), 1.0f);
-        const Eigen::Vector4f n_q(support.normals(j, 0), support.normals(j, 1), support.normals(j, 2), 0.0f);
-        float f1, f2, f3;
-        detail::fpfh_pair_features(p, n_p, q, n_q, f1, f2, f3);
-        h[detail::fpfh_bin(11 * ((static_cast<double>(f1) + detail::fpfh_pi) * static_cast<double>(d_pi)))] += incr;
-        h[11 + detail::fpfh_bin(11 * ((static_cast<double>(f2) + 1.0) * 0.5))] += incr;
-        h[22 + detail::fpfh_bin(11 * ((static_cast<double>(f3) + 1.0) * 0.5))] += incr;
+      // Pass 1: each query's neighbours (CSR), and which support points need an SPFH.
+      std::vector<detail::Neighbour> nn, all;
+      nn.reserve(256);
+      std::vector<std::size_t> begin(static_cast<std::size_t>(nq) + 1, 0);
+      std::vector<std::uint32_t> spfh_row(static_cast<std::size_t>(ns), none);
+      for (Eigen::Index i = 0; i < nq; ++i) {
+        if (cancelled(i, nq, 0.0, 0.25)) return error(StatusCode::cancelled, "FPFH: cancelled");
+        search.find(queries.points.row(i).data(), nn);
+        all.insert(all.end(), nn.begin(), nn.end());
+        begin[i + 1] = all.size();
+        for (const detail::Neighbour& n : nn) spfh_row[n.index] = 0;
       }
-    }
-
-    // Pass 3: FPFH(q) = sum of SPFH(j) / d2(q, j), each block rescaled to 100.
-    for (Eigen::Index i = 0; i < nq; ++i) {
-      if (cancelled(i, nq, 0.75, 0.25)) return error(StatusCode::cancelled, "FPFH: cancelled");
-      float* h = out.row(i).data();
-      if (begin[i + 1] == begin[i]) {  // non-finite query: PCL's search finds nothing
-        std::fill(h, h + 33, std::numeric_limits<float>::quiet_NaN());
-        continue;
+      std::uint32_t needed = 0;
+      for (std::uint32_t& row : spfh_row) {
+        if (row != none) row = needed++;
       }
-      std::fill(h, h + 33, 0.0f);
-      double sum[3] = {0, 0, 0};
-      for (std::size_t t = begin[i]; t < begin[i + 1]; ++t) {
-        const detail::Neighbour& n = all[t];
-        if (n.sqr_distance == 0) continue;  // the query itself, or a duplicate of it
-        const float weight = 1.0f / n.sqr_distance;
-        const float* sp = &spfh[static_cast<std::size_t>(spfh_row[n.index]) * 33];
-        for (int b = 0; b < 33; ++b) {
-          const float val = sp[b] * weight;
-          sum[b / 11] += val;
-          h[b] += val;
+
+      // Pass 2: SPFH of every needed support point, over its support neighbourhood.
+      std::vector<float> spfh(static_cast<std::size_t>(needed) * 33, 0.0f);
+      const float d_pi = 1.0f / (2.0f * static_cast<float>(detail::fpfh_pi));
+      for (Eigen::Index s = 0, done = 0; s < ns; ++s) {
+        const std::uint32_t row = spfh_row[s];
+        if (row == none) continue;
+        if (cancelled(++done, needed, 0.25, 0.5)) return error(StatusCode::cancelled, "FPFH: cancelled");
+        search.find(support.points.row(s).data(), nn);
+        float* h = &spfh[static_cast<std::size_t>(row) * 33];
+        if (nn.size() < 2) continue;  // no pair: SPFH stays zero
+        const float incr = 100.0f / static_cast<float>(nn.size() - 1);
+        const Eigen::Vector4f p(support.points(s, 0), support.points(s, 1), support.points(s, 2), 1.0f);
+        const Eigen::Vector4f n_p(support.normals(s, 0), support.normals(s, 1), support.normals(s, 2), 0.0f);
+        for (const detail::Neighbour& n : nn) {
+          if (n.index == static_cast<std::uint32_t>(s)) continue;
+          const Eigen::Index j = n.index;
+          const Eigen::Vector4f q(support.points(j, 0), support.points(j, 1), support.points(j, 2), 1.0f);
+          const Eigen::Vector4f n_q(support.normals(j, 0), support.normals(j, 1), support.normals(j, 2), 0.0f);
+          float f1, f2, f3;
+          detail::fpfh_pair_features(p, n_p, q, n_q, f1, f2, f3);
+          h[detail::fpfh_bin(11 * ((static_cast<double>(f1) + detail::fpfh_pi) * static_cast<double>(d_pi)))] += incr;
+          h[11 + detail::fpfh_bin(11 * ((static_cast<double>(f2) + 1.0) * 0.5))] += incr;
+          h[22 + detail::fpfh_bin(11 * ((static_cast<double>(f3) + 1.0) * 0.5))] += incr;
         }
       }
-      for (int block = 0; block < 3; ++block) {
-        const double scale = sum[block] != 0 ? 100.0 / sum[block] : 0.0;
-        for (int b = 11 * block; b < 11 * block + 11; ++b) h[b] = static_cast<float>(h[b] * scale);
+
+      // Pass 3: FPFH(q) = sum of SPFH(j) / d2(q, j), each block rescaled to 100.
+      for (Eigen::Index i = 0; i < nq; ++i) {
+        if (cancelled(i, nq, 0.75, 0.25)) return error(StatusCode::cancelled, "FPFH: cancelled");
+        float* h = out.row(i).data();
+        if (begin[i + 1] == begin[i]) {  // non-finite query: PCL's search finds nothing
+          std::fill(h, h + 33, std::numeric_limits<float>::quiet_NaN());
+          continue;
+        }
+        std::fill(h, h + 33, 0.0f);
+        double sum[3] = {0, 0, 0};
+        for (std::size_t t = begin[i]; t < begin[i + 1]; ++t) {
+          const detail::Neighbour& n = all[t];
+          if (n.sqr_distance == 0) continue;  // the query itself, or a duplicate of it
+          const float weight = 1.0f / n.sqr_distance;
+          const float* sp = &spfh[static_cast<std::size_t>(spfh_row[n.index]) * 33];
+          for (int b = 0; b < 33; ++b) {
+            const float val = sp[b] * weight;
+            sum[b / 11] += val;
+            h[b] += val;
+          }
+        }
+        for (int block = 0; block < 3; ++block) {
+          const double scale = sum[block] != 0 ? 100.0 / sum[block] : 0.0;
+          for (int b = 11 * block; b < 11 * block + 11; ++b) h[b] = static_cast<float>(h[b] * scale);
+        }
       }
-    }
-    if (!progress.report("descriptors", 1.0)) return error(StatusCode::cancelled, "FPFH: cancelled");
-    return Status();
+      if (!progress.report("descriptors", 1.0)) return error(StatusCode::cancelled, "FPFH: cancelled");
+      return Status();
+    });
   }
 };
 

@@ -89,53 +89,55 @@ struct ShotDescriptor {
 
   Status compute(const PointSet& support, const PointSet& queries, DescriptorMatrix& out,
                  const Progress& progress = Progress()) const {
-    RESTITCH_TRY(detail::check_descriptor_input("SHOT", radius, support, queries));
-    const Eigen::Index nq = queries.size();
-    out.resize(nq, 352);
-    if (nq == 0) return Status();
+    return detail::guarded("ShotDescriptor::compute", [&]() -> Status {
+      RESTITCH_TRY(detail::check_descriptor_input("SHOT", radius, support, queries));
+      const Eigen::Index nq = queries.size();
+      out.resize(nq, 352);
+      if (nq == 0) return Status();
 
-    const double r = static_cast<double>(radius);
-    const detail::RadiusSearch search(support.points, r);
-    // Per support point, the cosine coordinate b = 5 (1 + n.z), split into its
-    // slot k and the signed offset delta = b - k; k = -1 marks a non-finite
-    // normal (skipped, as PCL does).
-    std::vector<std::int8_t> slot(static_cast<std::size_t>(support.size()));
-    std::vector<double> delta(static_cast<std::size_t>(support.size()));
-    for (Eigen::Index j = 0; j < support.size(); ++j) {
-      const float nx = support.normals(j, 0), ny = support.normals(j, 1), nz = support.normals(j, 2);
-      if (!(std::isfinite(nx) && std::isfinite(ny) && std::isfinite(nz))) {
-        slot[j] = -1;
-        continue;
+      const double r = static_cast<double>(radius);
+      const detail::RadiusSearch search(support.points, r);
+      // Per support point, the cosine coordinate b = 5 (1 + n.z), split into its
+      // slot k and the signed offset delta = b - k; k = -1 marks a non-finite
+      // normal (skipped, as PCL does).
+      std::vector<std::int8_t> slot(static_cast<std::size_t>(support.size()));
+      std::vector<double> delta(static_cast<std::size_t>(support.size()));
+      for (Eigen::Index j = 0; j < support.size(); ++j) {
+        const float nx = support.normals(j, 0), ny = support.normals(j, 1), nz = support.normals(j, 2);
+        if (!(std::isfinite(nx) && std::isfinite(ny) && std::isfinite(nz))) {
+          slot[j] = -1;
+          continue;
+        }
+        double c = static_cast<double>(nz);  // n . (0,0,1)
+        if (c > 1.0) c = 1.0;
+        if (c < -1.0) c = -1.0;
+        const double b = ((1.0 + c) * 10) / 2;
+        const int k = static_cast<int>(std::floor(b + 0.5));
+        slot[j] = static_cast<std::int8_t>(k);
+        delta[j] = b - k;
       }
-      double c = static_cast<double>(nz);  // n . (0,0,1)
-      if (c > 1.0) c = 1.0;
-      if (c < -1.0) c = -1.0;
-      const double b = ((1.0 + c) * 10) / 2;
-      const int k = static_cast<int>(std::floor(b + 0.5));
-      slot[j] = static_cast<std::int8_t>(k);
-      delta[j] = b - k;
-    }
 
-    std::vector<detail::Neighbour> nn;
-    nn.reserve(256);
-    for (Eigen::Index i = 0; i < nq; ++i) {
-      if (i % detail::descriptor_progress_stride == 0 && i > 0 &&
-          !progress.report("descriptors", static_cast<double>(i) / static_cast<double>(nq))) {
-        return error(StatusCode::cancelled, "SHOT: cancelled");
+      std::vector<detail::Neighbour> nn;
+      nn.reserve(256);
+      for (Eigen::Index i = 0; i < nq; ++i) {
+        if (i % detail::descriptor_progress_stride == 0 && i > 0 &&
+            !progress.report("descriptors", static_cast<double>(i) / static_cast<double>(nq))) {
+          return error(StatusCode::cancelled, "SHOT: cancelled");
+        }
+        float* h = out.row(i).data();
+        const float* q = queries.points.row(i).data();
+        search.find(q, nn);  // empty for a non-finite query
+        if (nn.size() < 5) {
+          std::fill(h, h + 352, std::numeric_limits<float>::quiet_NaN());
+          continue;
+        }
+        std::fill(h, h + 352, 0.0f);
+        accumulate(support, q, nn, slot.data(), delta.data(), r, h);
+        normalise(h);
       }
-      float* h = out.row(i).data();
-      const float* q = queries.points.row(i).data();
-      search.find(q, nn);  // empty for a non-finite query
-      if (nn.size() < 5) {
-        std::fill(h, h + 352, std::numeric_limits<float>::quiet_NaN());
-        continue;
-      }
-      std::fill(h, h + 352, 0.0f);
-      accumulate(support, q, nn, slot.data(), delta.data(), r, h);
-      normalise(h);
-    }
-    if (!progress.report("descriptors", 1.0)) return error(StatusCode::cancelled, "SHOT: cancelled");
-    return Status();
+      if (!progress.report("descriptors", 1.0)) return error(StatusCode::cancelled, "SHOT: cancelled");
+      return Status();
+    });
   }
 
  private:

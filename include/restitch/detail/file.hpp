@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -36,14 +37,14 @@ inline Status read_file(const std::string& path, std::vector<std::uint8_t>& out)
   const auto st = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(st)) return error(StatusCode::io_error, path + ": no such file");
   if (std::filesystem::is_directory(st)) return error(StatusCode::io_error, path + ": is a directory, not a file");
-  std::FILE* f = std::fopen(path.c_str(), "rb");
+  // Closed however this returns (a failed allocation in `out` throws std::bad_alloc).
+  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) return error(StatusCode::io_error, path + ": cannot open (" + std::strerror(errno) + ")");
   out.clear();
   unsigned char buf[1 << 16];
   std::size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) out.insert(out.end(), buf, buf + n);
-  const bool bad = std::ferror(f) != 0;
-  std::fclose(f);
+  while ((n = std::fread(buf, 1, sizeof buf, f.get())) > 0) out.insert(out.end(), buf, buf + n);
+  const bool bad = std::ferror(f.get()) != 0;
   if (bad) return error(StatusCode::io_error, path + ": read error");
   return {};
 }

@@ -88,60 +88,63 @@ inline const std::vector<SampleInfo>& catalog() {
 /// The sample `name` with its defaults changed by `overrides` (parameter
 /// name -> value). See the contract at the top of this file. Cost O(#F).
 inline Result<SampleModel> generate(const std::string& name, const std::map<std::string, double>& overrides = {}) {
-  const auto& fams = detail::families();
-  const auto& cat = catalog();
-  std::size_t k = 0;
-  while (k < cat.size() && cat[k].name != name) ++k;
-  if (k == cat.size()) {
-    std::string names;
-    for (const auto& s : cat) names += (names.empty() ? "" : ", ") + s.name;
-    return error(StatusCode::invalid_argument, "unknown sample '" + name + "'; the samples are: " + names);
-  }
-  const SampleInfo& info = cat[k];
-  std::map<std::string, double> values;
-  for (const auto& p : info.parameters) values[p.name] = p.value;
-  for (const auto& [key, v] : overrides) {
-    const Parameter* p = nullptr;
-    for (const auto& q : info.parameters)
-      if (q.name == key) p = &q;
-    if (!p) {
+  return restitch::detail::guarded("generate", [&]() -> Result<SampleModel> {
+    const auto& fams = detail::families();
+    const auto& cat = catalog();
+    std::size_t k = 0;
+    while (k < cat.size() && cat[k].name != name) ++k;
+    if (k == cat.size()) {
       std::string names;
-      for (const auto& q : info.parameters) names += (names.empty() ? "" : ", ") + q.name;
-      return error(StatusCode::invalid_argument,
-                   "sample '" + name + "' has no parameter '" + key + "'; its parameters are: " + names);
+      for (const auto& s : cat) names += (names.empty() ? "" : ", ") + s.name;
+      return error(StatusCode::invalid_argument, "unknown sample '" + name + "'; the samples are: " + names);
     }
-    const std::string range = "[" + detail::format_number(p->min) + ", " + detail::format_number(p->max) + "]";
-    if (!(v >= p->min && v <= p->max))
-      return error(StatusCode::invalid_argument, "parameter '" + key + "' of sample '" + name + "' is " +
-                                                     detail::format_number(v) + ", outside its range " + range);
-    if (p->integer && v != std::floor(v))
-      return error(StatusCode::invalid_argument, "parameter '" + key + "' of sample '" + name +
-                                                     "' must be an integer in " + range + ", got " +
-                                                     detail::format_number(v));
-    values[key] = v;
-  }
-  const detail::ParameterValues P(std::move(values));
-  const detail::SampleFamily& fam = fams[k];
-  RESTITCH_TRY(fam.check(P));
-  const double cell = fam.cell / P["detail"];
-  {
-    SampleModel scratch;
-    restitch::detail::SampleMeshBuilder counter(cell, fam.uv_unit, 2, true);
-    fam.build(P, counter, scratch);
-    if (counter.triangle_count() > max_sample_triangles)
-      return error(StatusCode::too_large, "sample '" + name + "' with these parameters would have " +
-                                              std::to_string(counter.triangle_count()) + " triangles, more than " +
-                                              std::to_string(max_sample_triangles) + "; lower `detail` or the counts");
-  }
-  SampleModel model;
-  restitch::detail::SampleMeshBuilder builder(cell, fam.uv_unit, 2, false);
-  fam.build(P, builder, model);
-  Eigen::Index generators = static_cast<Eigen::Index>(model.generators.size());
-  std::vector<Eigen::VectorXi> blocks;
-  builder.finish(name, model.mesh, blocks);
-  blocks.resize(std::size_t(generators));
-  model.face_block = std::move(blocks);
-  return model;
+    const SampleInfo& info = cat[k];
+    std::map<std::string, double> values;
+    for (const auto& p : info.parameters) values[p.name] = p.value;
+    for (const auto& [key, v] : overrides) {
+      const Parameter* p = nullptr;
+      for (const auto& q : info.parameters)
+        if (q.name == key) p = &q;
+      if (!p) {
+        std::string names;
+        for (const auto& q : info.parameters) names += (names.empty() ? "" : ", ") + q.name;
+        return error(StatusCode::invalid_argument,
+                     "sample '" + name + "' has no parameter '" + key + "'; its parameters are: " + names);
+      }
+      const std::string range = "[" + detail::format_number(p->min) + ", " + detail::format_number(p->max) + "]";
+      if (!(v >= p->min && v <= p->max))
+        return error(StatusCode::invalid_argument, "parameter '" + key + "' of sample '" + name + "' is " +
+                                                       detail::format_number(v) + ", outside its range " + range);
+      if (p->integer && v != std::floor(v))
+        return error(StatusCode::invalid_argument, "parameter '" + key + "' of sample '" + name +
+                                                       "' must be an integer in " + range + ", got " +
+                                                       detail::format_number(v));
+      values[key] = v;
+    }
+    const detail::ParameterValues P(std::move(values));
+    const detail::SampleFamily& fam = fams[k];
+    RESTITCH_TRY(fam.check(P));
+    const double cell = fam.cell / P["detail"];
+    {
+      SampleModel scratch;
+      restitch::detail::SampleMeshBuilder counter(cell, fam.uv_unit, 2, true);
+      fam.build(P, counter, scratch);
+      if (counter.triangle_count() > max_sample_triangles)
+        return error(StatusCode::too_large, "sample '" + name + "' with these parameters would have " +
+                                                std::to_string(counter.triangle_count()) + " triangles, more than " +
+                                                std::to_string(max_sample_triangles) +
+                                                "; lower `detail` or the counts");
+    }
+    SampleModel model;
+    restitch::detail::SampleMeshBuilder builder(cell, fam.uv_unit, 2, false);
+    fam.build(P, builder, model);
+    Eigen::Index generators = static_cast<Eigen::Index>(model.generators.size());
+    std::vector<Eigen::VectorXi> blocks;
+    builder.finish(name, model.mesh, blocks);
+    blocks.resize(std::size_t(generators));
+    model.face_block = std::move(blocks);
+    return model;
+  });
 }
 
 }  // namespace families

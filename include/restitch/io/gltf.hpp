@@ -124,47 +124,55 @@ namespace restitch {
 /// images are looked up ("" = none may be external). Warnings go to `report`.
 inline Result<Mesh> load_gltf_from_memory(const std::uint8_t* data, std::size_t size, const std::string& base_dir = "",
                                           GltfLoadReport* report = nullptr, const GltfLimits& limits = {}) {
-  GltfLoadReport local;
-  GltfLoadReport& r = report ? *report : local;
-  r = GltfLoadReport();
-  tinygltf::Model model;
-  RESTITCH_TRY(detail::parse_model(data, size, base_dir, detail::has_glb_magic(data, size), model, r));
-  Mesh mesh;
-  RESTITCH_TRY(detail::build_mesh(model, mesh, r, limits));
-  return mesh;
+  return detail::guarded("load_gltf_from_memory", [&]() -> Result<Mesh> {
+    GltfLoadReport local;
+    GltfLoadReport& r = report ? *report : local;
+    r = GltfLoadReport();
+    tinygltf::Model model;
+    RESTITCH_TRY(detail::parse_model(data, size, base_dir, detail::has_glb_magic(data, size), model, r));
+    Mesh mesh;
+    RESTITCH_TRY(detail::build_mesh(model, mesh, r, limits));
+    return mesh;
+  });
 }
 
 /// Loads a .glb or .gltf file (see the header comment for what is carried).
 inline Result<Mesh> load_gltf(const std::string& path, GltfLoadReport* report = nullptr,
                               const GltfLimits& limits = {}) {
-  std::vector<std::uint8_t> bytes;
-  RESTITCH_TRY(detail::read_file(path, bytes));
-  Result<Mesh> mesh = load_gltf_from_memory(bytes.data(), bytes.size(), detail::parent_dir(path), report, limits);
-  if (!mesh) return Status(mesh.status().code(), path + ": " + mesh.status().message());
-  return mesh;
+  return detail::guarded("load_gltf", [&]() -> Result<Mesh> {
+    std::vector<std::uint8_t> bytes;
+    RESTITCH_TRY(detail::read_file(path, bytes));
+    Result<Mesh> mesh = load_gltf_from_memory(bytes.data(), bytes.size(), detail::parent_dir(path), report, limits);
+    if (!mesh) return Status(mesh.status().code(), path + ": " + mesh.status().message());
+    return mesh;
+  });
 }
 
 /// Encodes a mesh as .glb bytes (deterministic).
 inline Result<std::vector<std::uint8_t>> save_glb_to_memory(const Mesh& mesh) {
-  tinygltf::Model m;
-  RESTITCH_TRY(detail::build_model(mesh, m));
-  std::vector<std::uint8_t> bytes;
-  RESTITCH_TRY(detail::serialize(m, true, bytes));
-  return bytes;
+  return detail::guarded("save_glb_to_memory", [&]() -> Result<std::vector<std::uint8_t>> {
+    tinygltf::Model m;
+    RESTITCH_TRY(detail::build_model(mesh, m));
+    std::vector<std::uint8_t> bytes;
+    RESTITCH_TRY(detail::serialize(m, true, bytes));
+    return bytes;
+  });
 }
 
 /// Saves a mesh as .glb (binary) or .gltf (JSON, embedded buffer) by the
 /// path's extension; any other extension is an invalid_argument. Written to
 /// a temporary file beside `path`, then renamed over it.
 inline Status save_gltf(const Mesh& mesh, const std::string& path) {
-  const std::string ext = detail::lower_extension(path);
-  if (ext != ".glb" && ext != ".gltf")
-    return error(StatusCode::invalid_argument, path + ": the output must end in .glb or .gltf");
-  tinygltf::Model m;
-  RESTITCH_TRY(detail::build_model(mesh, m));
-  std::vector<std::uint8_t> bytes;
-  RESTITCH_TRY(detail::serialize(m, ext == ".glb", bytes));
-  return detail::write_file_atomic(path, bytes.data(), bytes.size());
+  return detail::guarded("save_gltf", [&]() -> Status {
+    const std::string ext = detail::lower_extension(path);
+    if (ext != ".glb" && ext != ".gltf")
+      return error(StatusCode::invalid_argument, path + ": the output must end in .glb or .gltf");
+    tinygltf::Model m;
+    RESTITCH_TRY(detail::build_model(mesh, m));
+    std::vector<std::uint8_t> bytes;
+    RESTITCH_TRY(detail::serialize(m, ext == ".glb", bytes));
+    return detail::write_file_atomic(path, bytes.data(), bytes.size());
+  });
 }
 
 }  // namespace restitch

@@ -197,52 +197,54 @@ struct BruteForceMatcher {
 
   Status match(const PointSet& features, const DescriptorMatrix& descriptors, float tau, std::vector<Match>& out,
                const Progress& progress = {}) const {
-    detail::MatchProblem p;
-    RESTITCH_TRY(detail::prepare_matching(features, descriptors, tau, out, p));
-    if (!progress.report("matching", 0.0)) return error(StatusCode::cancelled, "cancelled while matching features");
-    const std::size_t n = p.size();
-    if (n < 2) return progress.report("matching", 1.0) ? Status() : error(StatusCode::cancelled, "cancelled");
+    return detail::guarded("BruteForceMatcher::match", [&]() -> Status {
+      detail::MatchProblem p;
+      RESTITCH_TRY(detail::prepare_matching(features, descriptors, tau, out, p));
+      if (!progress.report("matching", 0.0)) return error(StatusCode::cancelled, "cancelled while matching features");
+      const std::size_t n = p.size();
+      if (n < 2) return progress.report("matching", 1.0) ? Status() : error(StatusCode::cancelled, "cancelled");
 
-    double max_sq = 0;
-    for (Eigen::Index r = 0; r < p.descriptor.rows(); ++r)
-      max_sq = std::max(max_sq, p.descriptor.row(r).cast<double>().squaredNorm());
-    const double err = detail::float_distance_error(p.descriptor.cols(), max_sq);
-    // Best float distance b seen: the true best d* <= sqrt(b + err), and a
-    // target can tie only if its float distance <= upper(sqrt(b + err))^2 + err.
-    auto bound = [&](float b) {
-      const double u = std::sqrt(std::max(0.0, double(b) + err));
-      const double t = ties.upper(u);
-      return detail::float_at_least(t * t + err);
-    };
+      double max_sq = 0;
+      for (Eigen::Index r = 0; r < p.descriptor.rows(); ++r)
+        max_sq = std::max(max_sq, p.descriptor.row(r).cast<double>().squaredNorm());
+      const double err = detail::float_distance_error(p.descriptor.cols(), max_sq);
+      // Best float distance b seen: the true best d* <= sqrt(b + err), and a
+      // target can tie only if its float distance <= upper(sqrt(b + err))^2 + err.
+      auto bound = [&](float b) {
+        const double u = std::sqrt(std::max(0.0, double(b) + err));
+        const double t = ties.upper(u);
+        return detail::float_at_least(t * t + err);
+      };
 
-    std::vector<float> threshold(n, std::numeric_limits<float>::infinity());
-    std::vector<float> best(n, std::numeric_limits<float>::infinity());
-    std::vector<std::vector<std::pair<std::int32_t, float>>> cand(n);
-    std::vector<std::uint32_t> prune_at(n, 32);
-    auto offer = [&](std::size_t i, std::size_t j, float d2) {
-      auto& c = cand[i];
-      c.emplace_back(static_cast<std::int32_t>(j), d2);
-      if (d2 < best[i]) best[i] = d2, threshold[i] = bound(d2);
-      if (c.size() >= prune_at[i]) {
-        const float t = threshold[i];
-        c.erase(
-            std::remove_if(c.begin(), c.end(), [t](const std::pair<std::int32_t, float>& e) { return e.second > t; }),
-            c.end());
-        prune_at[i] = static_cast<std::uint32_t>(std::max<std::size_t>(32, 2 * c.size()));
+      std::vector<float> threshold(n, std::numeric_limits<float>::infinity());
+      std::vector<float> best(n, std::numeric_limits<float>::infinity());
+      std::vector<std::vector<std::pair<std::int32_t, float>>> cand(n);
+      std::vector<std::uint32_t> prune_at(n, 32);
+      auto offer = [&](std::size_t i, std::size_t j, float d2) {
+        auto& c = cand[i];
+        c.emplace_back(static_cast<std::int32_t>(j), d2);
+        if (d2 < best[i]) best[i] = d2, threshold[i] = bound(d2);
+        if (c.size() >= prune_at[i]) {
+          const float t = threshold[i];
+          c.erase(
+              std::remove_if(c.begin(), c.end(), [t](const std::pair<std::int32_t, float>& e) { return e.second > t; }),
+              c.end());
+          prune_at[i] = static_cast<std::uint32_t>(std::max<std::size_t>(32, 2 * c.size()));
+        }
+      };
+      RESTITCH_TRY(detail::scan_pairs(p, p.descriptor, threshold, offer, progress, 0.0, 0.95));
+
+      std::vector<std::int32_t> ids;
+      std::vector<double> scratch;
+      for (std::size_t i = 0; i < n; ++i) {
+        ids.clear();
+        for (const auto& e : cand[i])
+          if (e.second <= threshold[i]) ids.push_back(e.first);
+        detail::choose_match(p, i, ids, ties, scratch, out);
       }
-    };
-    RESTITCH_TRY(detail::scan_pairs(p, p.descriptor, threshold, offer, progress, 0.0, 0.95));
-
-    std::vector<std::int32_t> ids;
-    std::vector<double> scratch;
-    for (std::size_t i = 0; i < n; ++i) {
-      ids.clear();
-      for (const auto& e : cand[i])
-        if (e.second <= threshold[i]) ids.push_back(e.first);
-      detail::choose_match(p, i, ids, ties, scratch, out);
-    }
-    if (!progress.report("matching", 1.0)) return error(StatusCode::cancelled, "cancelled while matching features");
-    return {};
+      if (!progress.report("matching", 1.0)) return error(StatusCode::cancelled, "cancelled while matching features");
+      return {};
+    });
   }
 };
 

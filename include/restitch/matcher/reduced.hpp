@@ -59,97 +59,99 @@ struct ReducedMatcher {
 
   Status match(const PointSet& features, const DescriptorMatrix& descriptors, float tau, std::vector<Match>& out,
                const Progress& progress = {}) const {
-    RESTITCH_ASSERT(dimensions >= 1 && seeds >= 1 && pca_rows >= 1, "ReducedMatcher parameters must be >= 1");
-    const Eigen::Index dim = descriptors.cols();
-    if (dim <= dimensions + 1) return BruteForceMatcher{ties}.match(features, descriptors, tau, out, progress);
-    detail::MatchProblem p;
-    RESTITCH_TRY(detail::prepare_matching(features, descriptors, tau, out, p));
-    if (!progress.report("matching", 0.0)) return error(StatusCode::cancelled, "cancelled while matching features");
-    const std::size_t n = p.size();
-    if (n < 2) return progress.report("matching", 1.0) ? Status() : error(StatusCode::cancelled, "cancelled");
-    const Eigen::Index rows = static_cast<Eigen::Index>(n);
+    return detail::guarded("ReducedMatcher::match", [&]() -> Status {
+      RESTITCH_ASSERT(dimensions >= 1 && seeds >= 1 && pca_rows >= 1, "ReducedMatcher parameters must be >= 1");
+      const Eigen::Index dim = descriptors.cols();
+      if (dim <= dimensions + 1) return BruteForceMatcher{ties}.match(features, descriptors, tau, out, progress);
+      detail::MatchProblem p;
+      RESTITCH_TRY(detail::prepare_matching(features, descriptors, tau, out, p));
+      if (!progress.report("matching", 0.0)) return error(StatusCode::cancelled, "cancelled while matching features");
+      const std::size_t n = p.size();
+      if (n < 2) return progress.report("matching", 1.0) ? Status() : error(StatusCode::cancelled, "cancelled");
+      const Eigen::Index rows = static_cast<Eigen::Index>(n);
 
-    // Basis: mean and covariance (float product, sampled rows), leading eigenvectors.
-    const Eigen::RowVectorXd mean = p.descriptor.cast<double>().colwise().sum() / double(rows);
-    const Eigen::Index m = std::min(rows, pca_rows);
-    detail::RowMatrixXf sample(m, dim);
-    const Eigen::RowVectorXf meanf = mean.cast<float>();
-    for (Eigen::Index k = 0; k < m; ++k) sample.row(k) = p.descriptor.row((k * rows) / m) - meanf;
-    const Eigen::MatrixXd cov = (sample.transpose() * sample).cast<double>();
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov);
-    const Eigen::MatrixXd basis = eig.eigenvectors().rightCols(dimensions);  // dim x dimensions, orthonormal
+      // Basis: mean and covariance (float product, sampled rows), leading eigenvectors.
+      const Eigen::RowVectorXd mean = p.descriptor.cast<double>().colwise().sum() / double(rows);
+      const Eigen::Index m = std::min(rows, pca_rows);
+      detail::RowMatrixXf sample(m, dim);
+      const Eigen::RowVectorXf meanf = mean.cast<float>();
+      for (Eigen::Index k = 0; k < m; ++k) sample.row(k) = p.descriptor.row((k * rows) / m) - meanf;
+      const Eigen::MatrixXd cov = (sample.transpose() * sample).cast<double>();
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov);
+      const Eigen::MatrixXd basis = eig.eigenvectors().rightCols(dimensions);  // dim x dimensions, orthonormal
 
-    // Embedding [P^T (a - m), |r(a)|], r^2 = |a - m|^2 - |P^T (a - m)|^2 (double).
-    detail::RowMatrixXf emb(rows, dimensions + 1);
-    double max_sq = 0, max_norm_sq = 0;
-    const Eigen::Index chunk = 1024;
-    for (Eigen::Index r0 = 0; r0 < rows; r0 += chunk) {
-      const Eigen::Index c = std::min(chunk, rows - r0);
-      const Eigen::MatrixXd x = p.descriptor.middleRows(r0, c).cast<double>().rowwise() - mean;
-      const Eigen::MatrixXd proj = x * basis;
-      for (Eigen::Index k = 0; k < c; ++k) {
-        const double all = x.row(k).squaredNorm(), in = proj.row(k).squaredNorm();
-        const double res = std::sqrt(std::max(0.0, all - in));
-        emb.row(r0 + k).head(dimensions) = proj.row(k).cast<float>();
-        emb(r0 + k, dimensions) = static_cast<float>(res);
-        max_sq = std::max(max_sq, in + res * res);
-        max_norm_sq = std::max(max_norm_sq, all);
+      // Embedding [P^T (a - m), |r(a)|], r^2 = |a - m|^2 - |P^T (a - m)|^2 (double).
+      detail::RowMatrixXf emb(rows, dimensions + 1);
+      double max_sq = 0, max_norm_sq = 0;
+      const Eigen::Index chunk = 1024;
+      for (Eigen::Index r0 = 0; r0 < rows; r0 += chunk) {
+        const Eigen::Index c = std::min(chunk, rows - r0);
+        const Eigen::MatrixXd x = p.descriptor.middleRows(r0, c).cast<double>().rowwise() - mean;
+        const Eigen::MatrixXd proj = x * basis;
+        for (Eigen::Index k = 0; k < c; ++k) {
+          const double all = x.row(k).squaredNorm(), in = proj.row(k).squaredNorm();
+          const double res = std::sqrt(std::max(0.0, all - in));
+          emb.row(r0 + k).head(dimensions) = proj.row(k).cast<float>();
+          emb(r0 + k, dimensions) = static_cast<float>(res);
+          max_sq = std::max(max_sq, in + res * res);
+          max_norm_sq = std::max(max_norm_sq, all);
+        }
       }
-    }
-    // Error of the float lower bound: float products and rounding of e to
-    // float (8 u max|e|^2), plus the residual's cancellation: |r' - r| <=
-    // delta = sqrt(8 (D + k) sqrt(k + 1) 2^-53 max|a - m|^2) (rounding of the
-    // double projections and norms, 4x to spare), costing 8 delta max|e| +
-    // 4 delta^2; and 1e-10 max|a - m|^2 for the projection's own rounding and
-    // the basis' departure from orthonormality (both ~1e-13 relative).
-    const double delta =
-        std::sqrt(8.0 * double(dim + dimensions) * std::sqrt(double(dimensions + 1)) * 0x1.0p-53 * max_norm_sq);
-    const double err = detail::float_distance_error(dimensions + 1, max_sq) + 16.0 * 0x1.0p-24 * max_sq +
-                       8.0 * delta * std::sqrt(max_sq) + 4.0 * delta * delta + 1e-10 * max_norm_sq;
+      // Error of the float lower bound: float products and rounding of e to
+      // float (8 u max|e|^2), plus the residual's cancellation: |r' - r| <=
+      // delta = sqrt(8 (D + k) sqrt(k + 1) 2^-53 max|a - m|^2) (rounding of the
+      // double projections and norms, 4x to spare), costing 8 delta max|e| +
+      // 4 delta^2; and 1e-10 max|a - m|^2 for the projection's own rounding and
+      // the basis' departure from orthonormality (both ~1e-13 relative).
+      const double delta =
+          std::sqrt(8.0 * double(dim + dimensions) * std::sqrt(double(dimensions + 1)) * 0x1.0p-53 * max_norm_sq);
+      const double err = detail::float_distance_error(dimensions + 1, max_sq) + 16.0 * 0x1.0p-24 * max_sq +
+                         8.0 * delta * std::sqrt(max_sq) + 4.0 * delta * delta + 1e-10 * max_norm_sq;
 
-    // Pass 1: the `seeds` smallest lower bounds per feature (max-heaps).
-    const std::size_t k_seeds = static_cast<std::size_t>(seeds);
-    std::vector<float> threshold(n, std::numeric_limits<float>::infinity());
-    std::vector<std::pair<float, std::int32_t>> heap(n * k_seeds);
-    std::vector<std::uint32_t> heap_size(n, 0);
-    auto offer_seed = [&](std::size_t i, std::size_t j, float d2) {
-      auto* h = heap.data() + i * k_seeds;
-      std::uint32_t& s = heap_size[i];
-      if (s < k_seeds) {
-        h[s++] = {d2, static_cast<std::int32_t>(j)};
-        std::push_heap(h, h + s);
-      } else {
-        std::pop_heap(h, h + s);
-        h[s - 1] = {d2, static_cast<std::int32_t>(j)};
-        std::push_heap(h, h + s);
+      // Pass 1: the `seeds` smallest lower bounds per feature (max-heaps).
+      const std::size_t k_seeds = static_cast<std::size_t>(seeds);
+      std::vector<float> threshold(n, std::numeric_limits<float>::infinity());
+      std::vector<std::pair<float, std::int32_t>> heap(n * k_seeds);
+      std::vector<std::uint32_t> heap_size(n, 0);
+      auto offer_seed = [&](std::size_t i, std::size_t j, float d2) {
+        auto* h = heap.data() + i * k_seeds;
+        std::uint32_t& s = heap_size[i];
+        if (s < k_seeds) {
+          h[s++] = {d2, static_cast<std::int32_t>(j)};
+          std::push_heap(h, h + s);
+        } else {
+          std::pop_heap(h, h + s);
+          h[s - 1] = {d2, static_cast<std::int32_t>(j)};
+          std::push_heap(h, h + s);
+        }
+        if (s == k_seeds) threshold[i] = h[0].first;
+      };
+      RESTITCH_TRY(detail::scan_pairs(p, emb, threshold, offer_seed, progress, 0.05, 0.45));
+
+      // Upper bound of d* from the seeds' exact distances, then the pass-2 threshold.
+      for (std::size_t i = 0; i < n; ++i) {
+        double u = std::numeric_limits<double>::infinity();
+        for (std::uint32_t k = 0; k < heap_size[i]; ++k)
+          u = std::min(u, detail::exact_squared_distance(p.descriptor.row(static_cast<Eigen::Index>(i)).data(),
+                                                         p.descriptor.row(heap[i * k_seeds + k].second).data(), dim));
+        if (heap_size[i] == 0) {
+          threshold[i] = -std::numeric_limits<float>::infinity();  // no admissible target at all
+          continue;
+        }
+        const double t = ties.upper(std::sqrt(u));
+        threshold[i] = detail::float_at_least(t * t + err);
       }
-      if (s == k_seeds) threshold[i] = h[0].first;
-    };
-    RESTITCH_TRY(detail::scan_pairs(p, emb, threshold, offer_seed, progress, 0.05, 0.45));
+      heap.clear(), heap.shrink_to_fit();
 
-    // Upper bound of d* from the seeds' exact distances, then the pass-2 threshold.
-    for (std::size_t i = 0; i < n; ++i) {
-      double u = std::numeric_limits<double>::infinity();
-      for (std::uint32_t k = 0; k < heap_size[i]; ++k)
-        u = std::min(u, detail::exact_squared_distance(p.descriptor.row(static_cast<Eigen::Index>(i)).data(),
-                                                       p.descriptor.row(heap[i * k_seeds + k].second).data(), dim));
-      if (heap_size[i] == 0) {
-        threshold[i] = -std::numeric_limits<float>::infinity();  // no admissible target at all
-        continue;
-      }
-      const double t = ties.upper(std::sqrt(u));
-      threshold[i] = detail::float_at_least(t * t + err);
-    }
-    heap.clear(), heap.shrink_to_fit();
-
-    // Pass 2: all candidates under the threshold; exact re-ranking.
-    std::vector<std::vector<std::int32_t>> cand(n);
-    auto offer = [&](std::size_t i, std::size_t j, float) { cand[i].push_back(static_cast<std::int32_t>(j)); };
-    RESTITCH_TRY(detail::scan_pairs(p, emb, threshold, offer, progress, 0.45, 0.95));
-    std::vector<double> scratch;
-    for (std::size_t i = 0; i < n; ++i) detail::choose_match(p, i, cand[i], ties, scratch, out);
-    if (!progress.report("matching", 1.0)) return error(StatusCode::cancelled, "cancelled while matching features");
-    return {};
+      // Pass 2: all candidates under the threshold; exact re-ranking.
+      std::vector<std::vector<std::int32_t>> cand(n);
+      auto offer = [&](std::size_t i, std::size_t j, float) { cand[i].push_back(static_cast<std::int32_t>(j)); };
+      RESTITCH_TRY(detail::scan_pairs(p, emb, threshold, offer, progress, 0.45, 0.95));
+      std::vector<double> scratch;
+      for (std::size_t i = 0; i < n; ++i) detail::choose_match(p, i, cand[i], ties, scratch, out);
+      if (!progress.report("matching", 1.0)) return error(StatusCode::cancelled, "cancelled while matching features");
+      return {};
+    });
   }
 };
 

@@ -181,44 +181,46 @@ struct AutocorrelationOffsetDetector {
   SignificanceOptions significance = autocorrelation_significance();
 
   Status detect(const OffsetEvidence& ev, OffsetDetection& out, const Progress& progress) const {
-    out = OffsetDetection{};
-    if (ev.dense.normals.rows() != ev.dense.points.rows())
-      return error(StatusCode::invalid_argument, "the dense samples need one normal per point");
-    if (!(ev.dense_spacing > 0) || !std::isfinite(ev.dense_spacing) || !(ev.tau >= 0) || !std::isfinite(ev.tau))
-      return error(StatusCode::invalid_argument, "the dense spacing must be positive and tau non-negative");
-    if (!(max_peaks >= 1 && significance.valid() && suppression_radius >= 0 && std::isfinite(suppression_radius) &&
-          min_strength >= 0 && min_strength <= 1 && std::isfinite(min_peak_contrast) && contrast_distance > 0 &&
-          std::isfinite(contrast_distance)))
-      return error(StatusCode::invalid_argument, "AutocorrelationOffsetDetector parameters out of range");
+    return detail::guarded("AutocorrelationOffsetDetector::detect", [&]() -> Status {
+      out = OffsetDetection{};
+      if (ev.dense.normals.rows() != ev.dense.points.rows())
+        return error(StatusCode::invalid_argument, "the dense samples need one normal per point");
+      if (!(ev.dense_spacing > 0) || !std::isfinite(ev.dense_spacing) || !(ev.tau >= 0) || !std::isfinite(ev.tau))
+        return error(StatusCode::invalid_argument, "the dense spacing must be positive and tau non-negative");
+      if (!(max_peaks >= 1 && significance.valid() && suppression_radius >= 0 && std::isfinite(suppression_radius) &&
+            min_strength >= 0 && min_strength <= 1 && std::isfinite(min_peak_contrast) && contrast_distance > 0 &&
+            std::isfinite(contrast_distance)))
+        return error(StatusCode::invalid_argument, "AutocorrelationOffsetDetector parameters out of range");
 
-    // 1. S_T and its peaks.
-    auto t0 = std::chrono::steady_clock::now();
-    SymmetryTransform st;
-    RESTITCH_TRY(symmetry_transform(ev.dense.points, ev.dense_spacing, field, st, progress, "autocorrelation"));
-    SymmetryPeakOptions po;
-    po.tau = ev.tau;
-    po.min_value = min_strength;
-    po.min_contrast = min_peak_contrast;
-    po.contrast_distance = contrast_distance;
-    po.suppression_radius = suppression_radius;
-    const std::vector<SymmetryPeak> peaks = symmetry_peaks(st, po);
-    out.peaks = peaks.size();
-    out.timings_ms["autocorrelation"] = detail::elapsed_ms(t0);
-    if (!progress.report("autocorrelation", 1))
-      return error(StatusCode::cancelled, "cancelled during the autocorrelation");
+      // 1. S_T and its peaks.
+      auto t0 = std::chrono::steady_clock::now();
+      SymmetryTransform st;
+      RESTITCH_TRY(symmetry_transform(ev.dense.points, ev.dense_spacing, field, st, progress, "autocorrelation"));
+      SymmetryPeakOptions po;
+      po.tau = ev.tau;
+      po.min_value = min_strength;
+      po.min_contrast = min_peak_contrast;
+      po.contrast_distance = contrast_distance;
+      po.suppression_radius = suppression_radius;
+      const std::vector<SymmetryPeak> peaks = symmetry_peaks(st, po);
+      out.peaks = peaks.size();
+      out.timings_ms["autocorrelation"] = detail::elapsed_ms(t0);
+      if (!progress.report("autocorrelation", 1))
+        return error(StatusCode::cancelled, "cancelled during the autocorrelation");
 
-    // 2. Refinement and significance, shared with the histogram detector.
-    t0 = std::chrono::steady_clock::now();
-    std::vector<OffsetCandidate> todo;
-    const double dense = double(ev.dense.size());
-    for (std::size_t k = 0; k < peaks.size() && k < max_peaks; ++k) {
-      const auto votes = std::size_t(std::llround(peaks[k].value * dense));
-      todo.push_back({peaks[k].offset, votes, votes, {}});
-    }
-    RESTITCH_TRY(refine_and_test(ev, todo, significance, progress, out.dominant));
-    out.timings_ms["refinement"] = detail::elapsed_ms(t0);
-    if (!progress.report("refinement", 1)) return error(StatusCode::cancelled, "cancelled during offset refinement");
-    return {};
+      // 2. Refinement and significance, shared with the histogram detector.
+      t0 = std::chrono::steady_clock::now();
+      std::vector<OffsetCandidate> todo;
+      const double dense = double(ev.dense.size());
+      for (std::size_t k = 0; k < peaks.size() && k < max_peaks; ++k) {
+        const auto votes = std::size_t(std::llround(peaks[k].value * dense));
+        todo.push_back({peaks[k].offset, votes, votes, {}});
+      }
+      RESTITCH_TRY(refine_and_test(ev, todo, significance, progress, out.dominant));
+      out.timings_ms["refinement"] = detail::elapsed_ms(t0);
+      if (!progress.report("refinement", 1)) return error(StatusCode::cancelled, "cancelled during offset refinement");
+      return {};
+    });
   }
 };
 
@@ -250,18 +252,21 @@ inline Status sample_for_structure(const Mesh& mesh, const Normalization& norm, 
 /// The strongest translational symmetry of a mesh (see the header comment): in [0, 1], 0 without a peak.
 inline Result<double> structure_score(const Mesh& mesh, const StructureScoreOptions& options = {},
                                       const Progress& progress = {}) {
-  PointSet samples;
-  RESTITCH_TRY(detail::sample_for_structure(mesh, Normalization::of(bounding_box(mesh)), options, progress, samples));
-  SymmetryTransform st;
-  RESTITCH_TRY(symmetry_transform(samples.points, options.spacing, options.field, st, progress, "structure"));
-  // The 8 strongest peaks (suppression as in the detector), each measured at its sub-voxel position.
-  double best = 0;
-  SymmetryPeakOptions po;
-  po.tau = options.tau;
-  po.min_value = 0;
-  po.max_count = 8;
-  for (const SymmetryPeak& p : symmetry_peaks(st, po)) best = std::max(best, symmetry_at(samples.points, st, p.offset));
-  return std::min(best, 1.0);
+  return detail::guarded("structure_score", [&]() -> Result<double> {
+    PointSet samples;
+    RESTITCH_TRY(detail::sample_for_structure(mesh, Normalization::of(bounding_box(mesh)), options, progress, samples));
+    SymmetryTransform st;
+    RESTITCH_TRY(symmetry_transform(samples.points, options.spacing, options.field, st, progress, "structure"));
+    // The 8 strongest peaks (suppression as in the detector), each measured at its sub-voxel position.
+    double best = 0;
+    SymmetryPeakOptions po;
+    po.tau = options.tau;
+    po.min_value = 0;
+    po.max_count = 8;
+    for (const SymmetryPeak& p : symmetry_peaks(st, po))
+      best = std::max(best, symmetry_at(samples.points, st, p.offset));
+    return std::min(best, 1.0);
+  });
 }
 
 /// S_T of `mesh` at each of `offsets` (model units), sampled and voxelised in the `reference` normalization
@@ -269,19 +274,21 @@ inline Result<double> structure_score(const Mesh& mesh, const StructureScoreOpti
 inline Result<StructureValues> structure_at(const Mesh& mesh, const std::vector<Eigen::Vector3d>& offsets,
                                             const Normalization& reference, const StructureScoreOptions& options = {},
                                             const Progress& progress = {}) {
-  if (!(reference.scale > 0) || !std::isfinite(reference.scale) || !reference.center.allFinite())
-    return error(StatusCode::invalid_argument, "the reference normalization must be finite with a positive scale");
-  for (const Eigen::Vector3d& v : offsets)
-    if (!v.allFinite()) return error(StatusCode::invalid_argument, "the offsets must be finite");
-  PointSet samples;
-  RESTITCH_TRY(detail::sample_for_structure(mesh, reference, options, progress, samples));
-  SymmetryTransform st;
-  RESTITCH_TRY(symmetry_transform(samples.points, options.spacing, options.field, st, progress, "structure"));
-  StructureValues out;
-  out.voxel = st.voxel;
-  for (const Eigen::Vector3d& v : offsets)
-    out.values.push_back(symmetry_at(samples.points, st, reference.to_normalized_offset(v)));
-  return out;
+  return detail::guarded("structure_at", [&]() -> Result<StructureValues> {
+    if (!(reference.scale > 0) || !std::isfinite(reference.scale) || !reference.center.allFinite())
+      return error(StatusCode::invalid_argument, "the reference normalization must be finite with a positive scale");
+    for (const Eigen::Vector3d& v : offsets)
+      if (!v.allFinite()) return error(StatusCode::invalid_argument, "the offsets must be finite");
+    PointSet samples;
+    RESTITCH_TRY(detail::sample_for_structure(mesh, reference, options, progress, samples));
+    SymmetryTransform st;
+    RESTITCH_TRY(symmetry_transform(samples.points, options.spacing, options.field, st, progress, "structure"));
+    StructureValues out;
+    out.voxel = st.voxel;
+    for (const Eigen::Vector3d& v : offsets)
+      out.values.push_back(symmetry_at(samples.points, st, reference.to_normalized_offset(v)));
+    return out;
+  });
 }
 
 }  // namespace restitch

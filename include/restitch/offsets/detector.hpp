@@ -391,50 +391,55 @@ struct HistogramOffsetDetector {
   SignificanceOptions significance{};
 
   Status detect(const OffsetEvidence& ev, OffsetDetection& out, const Progress& progress) const {
-    out = OffsetDetection{};
-    if (ev.matches.size() != std::size_t(ev.features.size()))
-      return error(StatusCode::invalid_argument, "the detector needs exactly one match per feature");
-    if (ev.dense.normals.rows() != ev.dense.points.rows())
-      return error(StatusCode::invalid_argument, "the dense samples need one normal per point");
-    if (!(ev.dense_spacing > 0) || !std::isfinite(ev.dense_spacing) || !(ev.tau >= 0) || !std::isfinite(ev.tau))
-      return error(StatusCode::invalid_argument, "the dense spacing must be positive and tau non-negative");
-    if (!(max_peaks >= 1 && significance.valid() && suppression_radius >= 0 && std::isfinite(suppression_radius)))
-      return error(StatusCode::invalid_argument, "HistogramOffsetDetector parameters out of range");
+    return detail::guarded("HistogramOffsetDetector::detect", [&]() -> Status {
+      out = OffsetDetection{};
+      if (ev.matches.size() != std::size_t(ev.features.size()))
+        return error(StatusCode::invalid_argument, "the detector needs exactly one match per feature");
+      if (ev.dense.normals.rows() != ev.dense.points.rows())
+        return error(StatusCode::invalid_argument, "the dense samples need one normal per point");
+      if (!(ev.dense_spacing > 0) || !std::isfinite(ev.dense_spacing) || !(ev.tau >= 0) || !std::isfinite(ev.tau))
+        return error(StatusCode::invalid_argument, "the dense spacing must be positive and tau non-negative");
+      if (!(max_peaks >= 1 && significance.valid() && suppression_radius >= 0 && std::isfinite(suppression_radius)))
+        return error(StatusCode::invalid_argument, "HistogramOffsetDetector parameters out of range");
 
-    // 1. Histogram and peaks.
-    auto t0 = std::chrono::steady_clock::now();
-    if (!progress.report("histogram", 0)) return error(StatusCode::cancelled, "cancelled during the offset histogram");
-    std::vector<Eigen::Vector3d> offsets;
-    std::vector<std::pair<std::int32_t, std::int32_t>> voters;  // (x, y) of each offset, for the part test
-    offsets.reserve(ev.matches.size());
-    for (std::size_t i = 0; i < ev.matches.size(); ++i) {
-      const std::int32_t j = ev.matches[i].target;
-      if (j < 0) continue;
-      if (j >= ev.features.size())
-        return error(StatusCode::invalid_argument,
-                     "match " + std::to_string(i) + " names a feature that does not exist");
-      offsets.push_back(
-          (ev.features.points.row(j) - ev.features.points.row(Eigen::Index(i))).cast<double>().transpose());
-      voters.emplace_back(std::int32_t(i), j);
-    }
-    OffsetHistogram hist;
-    RESTITCH_TRY(build_offset_histogram(offsets, bin_size, hist));
-    out.sparsity = offset_sparsity(hist);
-    std::vector<HistogramPeak> peaks = find_peaks(hist, suppression_radius);
-    out.peaks = peaks.size();
-    out.timings_ms["histogram"] = detail::elapsed_ms(t0);
-    if (!progress.report("histogram", 1)) return error(StatusCode::cancelled, "cancelled during the offset histogram");
+      // 1. Histogram and peaks.
+      auto t0 = std::chrono::steady_clock::now();
+      if (!progress.report("histogram", 0))
+        return error(StatusCode::cancelled, "cancelled during the offset histogram");
+      std::vector<Eigen::Vector3d> offsets;
+      std::vector<std::pair<std::int32_t, std::int32_t>> voters;  // (x, y) of each offset, for the part test
+      offsets.reserve(ev.matches.size());
+      for (std::size_t i = 0; i < ev.matches.size(); ++i) {
+        const std::int32_t j = ev.matches[i].target;
+        if (j < 0) continue;
+        if (j >= ev.features.size())
+          return error(StatusCode::invalid_argument,
+                       "match " + std::to_string(i) + " names a feature that does not exist");
+        offsets.push_back(
+            (ev.features.points.row(j) - ev.features.points.row(Eigen::Index(i))).cast<double>().transpose());
+        voters.emplace_back(std::int32_t(i), j);
+      }
+      OffsetHistogram hist;
+      RESTITCH_TRY(build_offset_histogram(offsets, bin_size, hist));
+      out.sparsity = offset_sparsity(hist);
+      std::vector<HistogramPeak> peaks = find_peaks(hist, suppression_radius);
+      out.peaks = peaks.size();
+      out.timings_ms["histogram"] = detail::elapsed_ms(t0);
+      if (!progress.report("histogram", 1))
+        return error(StatusCode::cancelled, "cancelled during the offset histogram");
 
-    // 2. Refinement and significance.
-    t0 = std::chrono::steady_clock::now();
-    std::vector<OffsetCandidate> todo;
-    for (const HistogramPeak& p : peaks)
-      if (p.mass >= significance.min_votes && todo.size() < max_peaks) todo.push_back({p.center, p.mass, p.votes, {}});
-    if (significance.part.enabled) detail::collect_part_seeds(ev.features, offsets, voters, bin_size, todo);
-    RESTITCH_TRY(refine_and_test(ev, todo, significance, progress, out.dominant));
-    out.timings_ms["refinement"] = detail::elapsed_ms(t0);
-    if (!progress.report("refinement", 1)) return error(StatusCode::cancelled, "cancelled during offset refinement");
-    return {};
+      // 2. Refinement and significance.
+      t0 = std::chrono::steady_clock::now();
+      std::vector<OffsetCandidate> todo;
+      for (const HistogramPeak& p : peaks)
+        if (p.mass >= significance.min_votes && todo.size() < max_peaks)
+          todo.push_back({p.center, p.mass, p.votes, {}});
+      if (significance.part.enabled) detail::collect_part_seeds(ev.features, offsets, voters, bin_size, todo);
+      RESTITCH_TRY(refine_and_test(ev, todo, significance, progress, out.dominant));
+      out.timings_ms["refinement"] = detail::elapsed_ms(t0);
+      if (!progress.report("refinement", 1)) return error(StatusCode::cancelled, "cancelled during offset refinement");
+      return {};
+    });
   }
 };
 

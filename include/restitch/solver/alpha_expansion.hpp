@@ -297,57 +297,59 @@ class AlphaExpansion {
   template <class Problem>
   Status solve(const Problem& problem, std::vector<int>& labels, SolveReport& report,
                const Progress& progress = Progress()) const {
-    static_assert(is_labelling_problem_v<Problem>,
-                  "AlphaExpansion::solve: the problem type does not satisfy the labelling problem contract "
-                  "(node_count, label_count, unary, edge_count, edge, pairwise; see restitch/solver/mrf.hpp)");
-    const auto t0 = std::chrono::steady_clock::now();
-    report = SolveReport();
-    detail::ExpansionRun<Problem, MaxFlow> run(problem, labels);
-    const auto finish = [&](Status s) {
-      report.non_metric_detected = run.non_metric();
-      if (static_cast<long long>(labels.size()) == problem.node_count() && s.code() != StatusCode::invalid_argument)
-        report.energy = energy(problem, labels);
-      report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      return s;
-    };
+    return detail::guarded("AlphaExpansion::solve", [&]() -> Status {
+      static_assert(is_labelling_problem_v<Problem>,
+                    "AlphaExpansion::solve: the problem type does not satisfy the labelling problem contract "
+                    "(node_count, label_count, unary, edge_count, edge, pairwise; see restitch/solver/mrf.hpp)");
+      const auto t0 = std::chrono::steady_clock::now();
+      report = SolveReport();
+      detail::ExpansionRun<Problem, MaxFlow> run(problem, labels);
+      const auto finish = [&](Status s) {
+        report.non_metric_detected = run.non_metric();
+        if (static_cast<long long>(labels.size()) == problem.node_count() && s.code() != StatusCode::invalid_argument)
+          report.energy = energy(problem, labels);
+        report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        return s;
+      };
 
-    Status s = run.start();
-    report.nodes = run.nodes();
-    report.labels = run.labels();
-    report.edges = run.edges();
-    if (!s.ok()) return finish(s);
-    report.initial_energy = run.energy();
-    const int m = run.labels();
-    if (run.nodes() == 0 || m <= 1) {
-      report.converged = true;  // nothing can move
-      return finish(Status());
-    }
-
-    int failures_in_row = 0;
-    for (int cycle = 0; cycle < max_cycles && !report.converged; ++cycle) {
-      report.cycles = cycle + 1;
-      for (int alpha = 0; alpha < m; ++alpha) {
-        bool improved = false;
-        s = run.expand(alpha, improved);
-        if (!s.ok()) return finish(s);
-        ++report.expansions;
-        if (improved) {
-          ++report.moves_accepted;
-          failures_in_row = 0;
-          if (on_move) on_move(labels, run.energy());
-        } else if (++failures_in_row >= m) {
-          report.converged = true;
-          break;
-        }
-        const double done = cycle + (alpha + 1.0) / m;
-        if (!progress.report("alpha-expansion", 1.0 - std::pow(2.0, -done))) {
-          report.cycle_energies.push_back(run.energy());
-          return finish(error(StatusCode::cancelled, "alpha-expansion cancelled"));
-        }
+      Status s = run.start();
+      report.nodes = run.nodes();
+      report.labels = run.labels();
+      report.edges = run.edges();
+      if (!s.ok()) return finish(s);
+      report.initial_energy = run.energy();
+      const int m = run.labels();
+      if (run.nodes() == 0 || m <= 1) {
+        report.converged = true;  // nothing can move
+        return finish(Status());
       }
-      report.cycle_energies.push_back(run.energy());
-    }
-    return finish(Status());
+
+      int failures_in_row = 0;
+      for (int cycle = 0; cycle < max_cycles && !report.converged; ++cycle) {
+        report.cycles = cycle + 1;
+        for (int alpha = 0; alpha < m; ++alpha) {
+          bool improved = false;
+          s = run.expand(alpha, improved);
+          if (!s.ok()) return finish(s);
+          ++report.expansions;
+          if (improved) {
+            ++report.moves_accepted;
+            failures_in_row = 0;
+            if (on_move) on_move(labels, run.energy());
+          } else if (++failures_in_row >= m) {
+            report.converged = true;
+            break;
+          }
+          const double done = cycle + (alpha + 1.0) / m;
+          if (!progress.report("alpha-expansion", 1.0 - std::pow(2.0, -done))) {
+            report.cycle_energies.push_back(run.energy());
+            return finish(error(StatusCode::cancelled, "alpha-expansion cancelled"));
+          }
+        }
+        report.cycle_energies.push_back(run.energy());
+      }
+      return finish(Status());
+    });
   }
 };
 

@@ -145,50 +145,52 @@ inline Status read_row(MrfLines& lines, std::vector<std::string_view>& tokens, i
 /// cannot be written or renamed. Cost O(N M + E M^2).
 template <class P>
 Status write_mrf(const std::string& path, const P& problem) {
-  static_assert(is_labelling_problem_v<P>,
-                "restitch::write_mrf: the problem type does not satisfy the labelling problem contract "
-                "(see restitch/solver/mrf.hpp)");
-  const int n = problem.node_count(), m = problem.label_count(), edges = problem.edge_count();
-  if (n < 0 || m < 0 || edges < 0) return error(StatusCode::invalid_argument, "write_mrf: negative problem size");
-  if (n > 0 && m < 1) return error(StatusCode::invalid_argument, "write_mrf: the problem has nodes but no labels");
-  const std::string tmp = path + ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) return error(StatusCode::io_error, "cannot open '" + tmp + "' for writing");
-  Status bad;
-  const auto put = [&](double v, const char* sep, const char* what, int index) {
-    if (!bad.ok()) return;
-    if (!std::isfinite(v)) {
-      bad = error(StatusCode::invalid_argument,
-                  std::string("write_mrf: a ") + what + " term of " + std::to_string(index) + " is not finite");
-      return;
+  return detail::guarded("write_mrf", [&]() -> Status {
+    static_assert(is_labelling_problem_v<P>,
+                  "restitch::write_mrf: the problem type does not satisfy the labelling problem contract "
+                  "(see restitch/solver/mrf.hpp)");
+    const int n = problem.node_count(), m = problem.label_count(), edges = problem.edge_count();
+    if (n < 0 || m < 0 || edges < 0) return error(StatusCode::invalid_argument, "write_mrf: negative problem size");
+    if (n > 0 && m < 1) return error(StatusCode::invalid_argument, "write_mrf: the problem has nodes but no labels");
+    const std::string tmp = path + ".tmp";
+    std::FILE* f = std::fopen(tmp.c_str(), "wb");
+    if (!f) return error(StatusCode::io_error, "cannot open '" + tmp + "' for writing");
+    Status bad;
+    const auto put = [&](double v, const char* sep, const char* what, int index) {
+      if (!bad.ok()) return;
+      if (!std::isfinite(v)) {
+        bad = error(StatusCode::invalid_argument,
+                    std::string("write_mrf: a ") + what + " term of " + std::to_string(index) + " is not finite");
+        return;
+      }
+      std::fprintf(f, "%.17g%s", v, sep);
+    };
+    std::fprintf(f, "restitch-mrf 1\nnodes %d labels %d edges %d\n", n, m, edges);
+    for (int i = 0; i < n && bad.ok(); ++i)
+      for (int a = 0; a < m; ++a) put(problem.unary(i, a), a + 1 < m ? " " : "\n", "unary", i);
+    for (int e = 0; e < edges && bad.ok(); ++e) {
+      const std::pair<int, int> ij = problem.edge(e);
+      if (ij.first < 0 || ij.first >= n || ij.second < 0 || ij.second >= n || ij.first == ij.second) {
+        bad = error(StatusCode::invalid_argument,
+                    "write_mrf: edge " + std::to_string(e) + " does not join two different nodes in range");
+        break;
+      }
+      std::fprintf(f, "%d %d\n", ij.first, ij.second);
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b) put(problem.pairwise(e, a, b), b + 1 < m ? " " : "\n", "pairwise", e);
     }
-    std::fprintf(f, "%.17g%s", v, sep);
-  };
-  std::fprintf(f, "restitch-mrf 1\nnodes %d labels %d edges %d\n", n, m, edges);
-  for (int i = 0; i < n && bad.ok(); ++i)
-    for (int a = 0; a < m; ++a) put(problem.unary(i, a), a + 1 < m ? " " : "\n", "unary", i);
-  for (int e = 0; e < edges && bad.ok(); ++e) {
-    const std::pair<int, int> ij = problem.edge(e);
-    if (ij.first < 0 || ij.first >= n || ij.second < 0 || ij.second >= n || ij.first == ij.second) {
-      bad = error(StatusCode::invalid_argument,
-                  "write_mrf: edge " + std::to_string(e) + " does not join two different nodes in range");
-      break;
+    const bool write_failed = std::ferror(f) != 0;
+    const bool close_failed = std::fclose(f) != 0;
+    if (!bad.ok() || write_failed || close_failed) {
+      std::remove(tmp.c_str());
+      return bad.ok() ? error(StatusCode::io_error, "writing '" + tmp + "' failed (disk full?)") : bad;
     }
-    std::fprintf(f, "%d %d\n", ij.first, ij.second);
-    for (int a = 0; a < m; ++a)
-      for (int b = 0; b < m; ++b) put(problem.pairwise(e, a, b), b + 1 < m ? " " : "\n", "pairwise", e);
-  }
-  const bool write_failed = std::ferror(f) != 0;
-  const bool close_failed = std::fclose(f) != 0;
-  if (!bad.ok() || write_failed || close_failed) {
-    std::remove(tmp.c_str());
-    return bad.ok() ? error(StatusCode::io_error, "writing '" + tmp + "' failed (disk full?)") : bad;
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    return error(StatusCode::io_error, "cannot rename '" + tmp + "' to '" + path + "'");
-  }
-  return Status();
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+      std::remove(tmp.c_str());
+      return error(StatusCode::io_error, "cannot rename '" + tmp + "' to '" + path + "'");
+    }
+    return Status();
+  });
 }
 
 /// Reads a problem written by write_mrf() (or by hand, in the format above).
@@ -199,81 +201,85 @@ Status write_mrf(const std::string& path, const P& problem) {
 /// format version), too_large (sizes past the limits above).
 /// parse_mrf reads the same from bytes held in memory; `path` only names them in messages.
 inline Result<TableMrf> parse_mrf(std::string_view text, const std::string& path) {
-  detail::MrfLines lines(text, path);
-  std::vector<std::string_view> tok;
-  std::string_view line;
+  return detail::guarded("parse_mrf", [&]() -> Result<TableMrf> {
+    detail::MrfLines lines(text, path);
+    std::vector<std::string_view> tok;
+    std::string_view line;
 
-  if (!lines.next(line)) return lines.parse_error("empty file; expected the header 'restitch-mrf 1'");
-  detail::split_tokens(line, tok);
-  if (tok.size() != 2 || tok[0] != "restitch-mrf")
-    return lines.parse_error("not a restitch MRF file: expected the header 'restitch-mrf 1'");
-  long long version = 0;
-  if (!detail::parse_count(tok[1], 1000000, version))
-    return lines.parse_error("the format version " + detail::quoted(tok[1]) + " is not a number");
-  if (version != 1)
-    return lines.fail(StatusCode::unsupported,
-                      "format version " + std::to_string(version) + " is not supported; this reader knows version 1");
-
-  if (!lines.next(line)) return lines.parse_error("the file ends early: expected 'nodes N labels M edges E'");
-  detail::split_tokens(line, tok);
-  if (tok.size() != 6 || tok[0] != "nodes" || tok[2] != "labels" || tok[4] != "edges")
-    return lines.parse_error("expected 'nodes N labels M edges E'");
-  long long sizes[3];
-  const long long limits[3] = {100000000LL, 100000LL, 1000000000LL};
-  const char* names[3] = {"nodes", "labels", "edges"};
-  for (int k = 0; k < 3; ++k) {
-    const std::string_view t = tok[static_cast<std::size_t>(2 * k + 1)];
-    if (!detail::parse_count(t, 999999999999999999LL, sizes[k]))
-      return lines.parse_error("the number of " + std::string(names[k]) + " " + detail::quoted(t) +
-                               " is not a non-negative integer");
-    if (sizes[k] > limits[k])
-      return lines.fail(StatusCode::too_large, std::to_string(sizes[k]) + " " + names[k] +
-                                                   " is more than read_mrf accepts (" + std::to_string(limits[k]) +
-                                                   ")");
-  }
-  const long long n = sizes[0], m = sizes[1], edges = sizes[2];
-  const double values = double(n) * double(m) + double(edges) * double(m) * double(m);
-  if (values > read_mrf_max_values)
-    return lines.fail(StatusCode::too_large, "the problem holds " + std::to_string(values) +
-                                                 " numbers (N M + E M^2); read_mrf accepts at most 1e8");
-  if (n > 0 && m == 0) return lines.parse_error("a problem with nodes needs at least one label");
-  // Every value takes at least two bytes ("0 "), every edge's node pair four: a file too short for what
-  // it declares is refused before the tables are allocated.
-  if (values * 2 + double(edges) * 4 > double(text.size()))
-    return lines.parse_error("the file ends early: it declares " + std::to_string(n) + " nodes, " + std::to_string(m) +
-                             " labels and " + std::to_string(edges) + " edges, more numbers than its " +
-                             std::to_string(text.size()) + " bytes can hold");
-
-  TableMrf problem(static_cast<int>(n), static_cast<int>(m));
-  std::vector<double> row(static_cast<std::size_t>(m) * static_cast<std::size_t>(m));
-  for (int i = 0; i < n; ++i) {
-    RESTITCH_TRY(
-        detail::read_row(lines, tok, static_cast<int>(m), row.data(), "the unary terms of node " + std::to_string(i)));
-    for (int a = 0; a < m; ++a) problem.set_unary(i, a, row[static_cast<std::size_t>(a)]);
-  }
-  for (long long e = 0; e < edges; ++e) {
-    const std::string which = "edge " + std::to_string(e);
-    if (!lines.next(line)) return lines.parse_error("the file ends early: expected the nodes 'i j' of " + which);
+    if (!lines.next(line)) return lines.parse_error("empty file; expected the header 'restitch-mrf 1'");
     detail::split_tokens(line, tok);
-    long long i = 0, j = 0;
-    if (tok.size() != 2 || !detail::parse_count(tok[0], n - 1, i) || !detail::parse_count(tok[1], n - 1, j))
-      return lines.parse_error("expected the nodes 'i j' of " + which + ": two node ids in [0, " + std::to_string(n) +
-                               ")");
-    if (i == j) return lines.parse_error(which + " joins node " + std::to_string(i) + " to itself");
-    for (int a = 0; a < m; ++a)
-      RESTITCH_TRY(detail::read_row(lines, tok, static_cast<int>(m), row.data() + static_cast<std::size_t>(a) * m,
-                                    "row " + std::to_string(a) + " of the pairwise table of " + which));
-    problem.add_edge(static_cast<int>(i), static_cast<int>(j), row);
-  }
-  if (lines.next(line)) return lines.parse_error("unexpected data after the last edge");
-  return problem;
+    if (tok.size() != 2 || tok[0] != "restitch-mrf")
+      return lines.parse_error("not a restitch MRF file: expected the header 'restitch-mrf 1'");
+    long long version = 0;
+    if (!detail::parse_count(tok[1], 1000000, version))
+      return lines.parse_error("the format version " + detail::quoted(tok[1]) + " is not a number");
+    if (version != 1)
+      return lines.fail(StatusCode::unsupported,
+                        "format version " + std::to_string(version) + " is not supported; this reader knows version 1");
+
+    if (!lines.next(line)) return lines.parse_error("the file ends early: expected 'nodes N labels M edges E'");
+    detail::split_tokens(line, tok);
+    if (tok.size() != 6 || tok[0] != "nodes" || tok[2] != "labels" || tok[4] != "edges")
+      return lines.parse_error("expected 'nodes N labels M edges E'");
+    long long sizes[3];
+    const long long limits[3] = {100000000LL, 100000LL, 1000000000LL};
+    const char* names[3] = {"nodes", "labels", "edges"};
+    for (int k = 0; k < 3; ++k) {
+      const std::string_view t = tok[static_cast<std::size_t>(2 * k + 1)];
+      if (!detail::parse_count(t, 999999999999999999LL, sizes[k]))
+        return lines.parse_error("the number of " + std::string(names[k]) + " " + detail::quoted(t) +
+                                 " is not a non-negative integer");
+      if (sizes[k] > limits[k])
+        return lines.fail(StatusCode::too_large, std::to_string(sizes[k]) + " " + names[k] +
+                                                     " is more than read_mrf accepts (" + std::to_string(limits[k]) +
+                                                     ")");
+    }
+    const long long n = sizes[0], m = sizes[1], edges = sizes[2];
+    const double values = double(n) * double(m) + double(edges) * double(m) * double(m);
+    if (values > read_mrf_max_values)
+      return lines.fail(StatusCode::too_large, "the problem holds " + std::to_string(values) +
+                                                   " numbers (N M + E M^2); read_mrf accepts at most 1e8");
+    if (n > 0 && m == 0) return lines.parse_error("a problem with nodes needs at least one label");
+    // Every value takes at least two bytes ("0 "), every edge's node pair four: a file too short for what
+    // it declares is refused before the tables are allocated.
+    if (values * 2 + double(edges) * 4 > double(text.size()))
+      return lines.parse_error("the file ends early: it declares " + std::to_string(n) + " nodes, " +
+                               std::to_string(m) + " labels and " + std::to_string(edges) +
+                               " edges, more numbers than its " + std::to_string(text.size()) + " bytes can hold");
+
+    TableMrf problem(static_cast<int>(n), static_cast<int>(m));
+    std::vector<double> row(static_cast<std::size_t>(m) * static_cast<std::size_t>(m));
+    for (int i = 0; i < n; ++i) {
+      RESTITCH_TRY(detail::read_row(lines, tok, static_cast<int>(m), row.data(),
+                                    "the unary terms of node " + std::to_string(i)));
+      for (int a = 0; a < m; ++a) problem.set_unary(i, a, row[static_cast<std::size_t>(a)]);
+    }
+    for (long long e = 0; e < edges; ++e) {
+      const std::string which = "edge " + std::to_string(e);
+      if (!lines.next(line)) return lines.parse_error("the file ends early: expected the nodes 'i j' of " + which);
+      detail::split_tokens(line, tok);
+      long long i = 0, j = 0;
+      if (tok.size() != 2 || !detail::parse_count(tok[0], n - 1, i) || !detail::parse_count(tok[1], n - 1, j))
+        return lines.parse_error("expected the nodes 'i j' of " + which + ": two node ids in [0, " + std::to_string(n) +
+                                 ")");
+      if (i == j) return lines.parse_error(which + " joins node " + std::to_string(i) + " to itself");
+      for (int a = 0; a < m; ++a)
+        RESTITCH_TRY(detail::read_row(lines, tok, static_cast<int>(m), row.data() + static_cast<std::size_t>(a) * m,
+                                      "row " + std::to_string(a) + " of the pairwise table of " + which));
+      problem.add_edge(static_cast<int>(i), static_cast<int>(j), row);
+    }
+    if (lines.next(line)) return lines.parse_error("unexpected data after the last edge");
+    return problem;
+  });
 }
 
 /// Reads a problem file (parse_mrf on its bytes); io_error when it cannot be read.
 inline Result<TableMrf> read_mrf(const std::string& path) {
-  std::vector<std::uint8_t> bytes;
-  RESTITCH_TRY(detail::read_file(path, bytes));
-  return parse_mrf(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
+  return detail::guarded("read_mrf", [&]() -> Result<TableMrf> {
+    std::vector<std::uint8_t> bytes;
+    RESTITCH_TRY(detail::read_file(path, bytes));
+    return parse_mrf(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
+  });
 }
 
 }  // namespace restitch

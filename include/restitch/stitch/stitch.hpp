@@ -167,59 +167,66 @@ class ClipStitcher {
   /// Builds the labelling-independent cache. Validates the mesh and lattice.
   /// Cost O(#V + bucketed triangle-cells).
   Status prepare(const Mesh& in, const Lattice& lattice, cache_type& cache) const {
-    cache = cache_type();
-    RESTITCH_TRY(validate(in));
-    if (in.UV.size() > max_uv_sets)
-      return error(StatusCode::unsupported, "the mesh has " + std::to_string(in.UV.size()) +
-                                                " texture coordinate sets; the stitcher carries at most " +
-                                                std::to_string(max_uv_sets));
-    if (!lattice.A.allFinite() || !lattice.origin.allFinite())
-      return error(StatusCode::invalid_argument, "the lattice has a non-finite offset or origin");
-    if ((lattice.cells < 1).any())
-      return error(StatusCode::invalid_argument, "the lattice must have at least one input cell along each axis");
-    if (CellGrid(lattice.cells).size() > max_cells)
-      return error(StatusCode::too_large, "the input lattice has more than " + std::to_string(max_cells) + " cells");
-    const double scale = lattice.A.colwise().norm().prod();
-    const double det = lattice.A.determinant();
-    if (!(std::abs(det) > 1e-9 * scale) || !(scale > 0))
-      return error(StatusCode::invalid_argument, "the lattice offsets are (nearly) linearly dependent");
-    const double tol =
-        std::max(weld_tolerance * bounding_box(in).size().norm(), 8.0 * double(FLT_EPSILON) * max_abs_coordinate(in));
-    return cache.build(in, lattice, tol, max_bucket_entries);
+    return detail::guarded("ClipStitcher::prepare", [&]() -> Status {
+      cache = cache_type();
+      RESTITCH_TRY(validate(in));
+      if (in.UV.size() > max_uv_sets)
+        return error(StatusCode::unsupported, "the mesh has " + std::to_string(in.UV.size()) +
+                                                  " texture coordinate sets; the stitcher carries at most " +
+                                                  std::to_string(max_uv_sets));
+      if (!lattice.A.allFinite() || !lattice.origin.allFinite())
+        return error(StatusCode::invalid_argument, "the lattice has a non-finite offset or origin");
+      if ((lattice.cells < 1).any())
+        return error(StatusCode::invalid_argument, "the lattice must have at least one input cell along each axis");
+      if (CellGrid(lattice.cells).size() > max_cells)
+        return error(StatusCode::too_large, "the input lattice has more than " + std::to_string(max_cells) + " cells");
+      const double scale = lattice.A.colwise().norm().prod();
+      const double det = lattice.A.determinant();
+      if (!(std::abs(det) > 1e-9 * scale) || !(scale > 0))
+        return error(StatusCode::invalid_argument, "the lattice offsets are (nearly) linearly dependent");
+      const double tol =
+          std::max(weld_tolerance * bounding_box(in).size().norm(), 8.0 * double(FLT_EPSILON) * max_abs_coordinate(in));
+      return cache.build(in, lattice, tol, max_bucket_entries);
+    });
   }
 
   /// Stitches one labelling with a prepared cache. See the file comment.
   Status stitch(const cache_type& cache, const Eigen::Array3i& out_cells,
                 const std::vector<Eigen::Array3i>& cell_shift, Mesh& out, StitchReport& report) const {
-    const auto t0 = std::chrono::steady_clock::now();
-    report = StitchReport();
-    if (!cache.ready()) return error(StatusCode::invalid_argument, "the stitch cache was not prepared");
-    if ((out_cells < 1).any())
-      return error(StatusCode::invalid_argument, "the output grid must have at least one cell along each axis");
-    const CellGrid out_grid(out_cells);
-    if (out_grid.size() > max_cells)
-      return error(StatusCode::too_large, "the output grid has more than " + std::to_string(max_cells) + " cells");
-    if (std::int64_t(cell_shift.size()) != out_grid.size())
-      return error(StatusCode::invalid_argument, "the labelling has " + std::to_string(cell_shift.size()) +
-                                                     " entries but the output grid has " +
-                                                     std::to_string(out_grid.size()) + " cells");
-    if (cache.mesh() == &out) return error(StatusCode::invalid_argument, "the output mesh must not be the input mesh");
-    run(cache, out_grid, cell_shift, out, report);
-    report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    return {};
+    return detail::guarded("ClipStitcher::stitch", [&]() -> Status {
+      const auto t0 = std::chrono::steady_clock::now();
+      report = StitchReport();
+      if (!cache.ready()) return error(StatusCode::invalid_argument, "the stitch cache was not prepared");
+      if ((out_cells < 1).any())
+        return error(StatusCode::invalid_argument, "the output grid must have at least one cell along each axis");
+      const CellGrid out_grid(out_cells);
+      if (out_grid.size() > max_cells)
+        return error(StatusCode::too_large, "the output grid has more than " + std::to_string(max_cells) + " cells");
+      if (std::int64_t(cell_shift.size()) != out_grid.size())
+        return error(StatusCode::invalid_argument, "the labelling has " + std::to_string(cell_shift.size()) +
+                                                       " entries but the output grid has " +
+                                                       std::to_string(out_grid.size()) + " cells");
+      if (cache.mesh() == &out)
+        return error(StatusCode::invalid_argument, "the output mesh must not be the input mesh");
+      run(cache, out_grid, cell_shift, out, report);
+      report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      return {};
+    });
   }
 
   /// Prepares and stitches in one call (the policy contract). `report.ms` includes the preparation.
   Status stitch(const Mesh& in, const Lattice& lattice, const Eigen::Array3i& out_cells,
                 const std::vector<Eigen::Array3i>& cell_shift, Mesh& out, StitchReport& report) const {
-    const auto t0 = std::chrono::steady_clock::now();
-    report = StitchReport();
-    if (&in == &out) return error(StatusCode::invalid_argument, "the output mesh must not be the input mesh");
-    cache_type cache;
-    RESTITCH_TRY(prepare(in, lattice, cache));
-    RESTITCH_TRY(stitch(cache, out_cells, cell_shift, out, report));
-    report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    return {};
+    return detail::guarded("ClipStitcher::stitch", [&]() -> Status {
+      const auto t0 = std::chrono::steady_clock::now();
+      report = StitchReport();
+      if (&in == &out) return error(StatusCode::invalid_argument, "the output mesh must not be the input mesh");
+      cache_type cache;
+      RESTITCH_TRY(prepare(in, lattice, cache));
+      RESTITCH_TRY(stitch(cache, out_cells, cell_shift, out, report));
+      report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      return {};
+    });
   }
 
  private:
