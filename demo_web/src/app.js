@@ -5,7 +5,8 @@
 // ./layers.js makes its objects, ./panel.js the controls, figures and messages. This file adds the file
 // picker, drag and drop, the download, and the automation contract below. URL parameters:
 // ?sample=NAME picks the first sample (default bookshelf), ?descriptor=, ?matcher=, ?detector=, ?labels= preset
-// the policy choices (default: the library's defaults, the first of each list the module reports).
+// the policy choices (default: the library's defaults, the first of each list the module reports); ?memory=MB
+// caps the WebAssembly memory (64 to 2048, the default): a model that needs more is refused in words.
 // Candidate repeats (a pair, or a repeat weaker than a parallel principal offset) are listed under Candidates
 // and drawn in cyan in the histogram inset; clicking one (either place) promotes it: it becomes a principal
 // offset and a resize slider moves along it. Hovering a dominant offset's peak in the inset explains it.
@@ -54,7 +55,9 @@ const settings = {
   steps: { v1: 0, v2: 0, v3: 0 },
 };
 
-const client = new WorkerClient(() => new Worker(new URL('./worker.js', import.meta.url), { type: 'module' }));
+const workerUrl = new URL('./worker.js', import.meta.url);
+if (query.get('memory')) workerUrl.searchParams.set('memory', query.get('memory'));  // MB the module may use
+const client = new WorkerClient(() => new Worker(workerUrl, { type: 'module' }));
 const panel = new Panel(settings, { figures: $('figures'), progress: $('progress'), progressLabel: $('progress-label'),
                                     progressFill: $('progress-fill'), error: $('error') });
 const view = new View({ container: $('viewport'), histogramLabel: $('histogram-label'), insets: overlayInsets });

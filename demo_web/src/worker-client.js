@@ -8,7 +8,8 @@
 // request(type, payload, {onProgress, transfer}) posts {type, id, ...payload} (the ArrayBuffers in `transfer`
 // are moved, not copied) and resolves with the worker's answer carrying that id; {type: 'progress'} messages
 // for it go to onProgress and leave it pending. An {type: 'error'} answer rejects with an Error whose
-// `.code` is the worker's code ('internal' when the worker itself failed to start).
+// `.code` is the worker's code ('internal' when the worker itself failed to start or died: every pending request
+// rejects, and the next request replaces the worker first).
 // restart() terminates the worker, which is the only way to stop a running analysis: every pending request
 // rejects with an Error whose `.cancelled` is true. No DOM: the factory passed in makes the worker (a fake
 // object with postMessage/terminate/onmessage/onerror in the node tests).
@@ -20,6 +21,7 @@ export function cancelledError() {
 export class WorkerClient {
   #create;
   #worker = null;
+  #broken = false;  // the worker reported an error of its own (it failed to start or died)
   #nextId = 1;
   #pending = new Map();  // id -> {resolve, reject, onProgress}
 
@@ -34,13 +36,16 @@ export class WorkerClient {
     worker.onmessage = (e) => this.#receive(e.data);
     worker.onerror = (e) => {
       e.preventDefault();
-      const message = `the restitch worker failed to start (${e.message || 'see the console'})`;
+      this.#broken = true;
+      const message = `the restitch worker stopped (${e.message || 'see the console'})`;
       this.#rejectAll(() => Object.assign(new Error(message), { code: 'internal' }));
     };
     this.#worker = worker;
+    this.#broken = false;
   }
 
   request(type, payload = {}, { onProgress, transfer = [] } = {}) {
+    if (this.#broken) this.restart();  // a worker that died is replaced, so the next file loads
     const id = this.#nextId++;
     return new Promise((resolve, reject) => {
       this.#pending.set(id, { resolve, reject, onProgress });

@@ -19,9 +19,19 @@
 // indices, groups} (typed arrays transferred, not copied); `glb` is the model as
 // .glb bytes, from which the page takes the materials and textures. Requests run one at a time in order;
 // analysis cannot be interrupted, so the page replaces the worker to cancel it.
+//
+// A trap in the module (WebAssembly has no C++ exceptions here, so a failed allocation aborts the call, as
+// would a bug) leaves the module's state unusable: the answer is {type: 'error', code: 'out_of_memory'} (an
+// uncaught C++ exception: the library throws nothing else) or 'internal' (any other trap), the module
+// instance is dropped with the model loaded in it, and the next request gets a fresh one. The worker's URL
+// may carry ?memory=MB, the most memory the module may grow to (default and upper bound 2048 MB, the
+// module's link-time maximum; lower bound 64 MB).
 import { loadRestitch } from './restitch.js';
+import { trapAnswer, memoryLimitPages } from './trap.js';
 
-const ready = loadRestitch();
+const maxPages = memoryLimitPages(new URL(self.location.href).searchParams.get('memory'));
+const instantiate = () => loadRestitch(maxPages ? { wasmMemory: new WebAssembly.Memory({ initial: 512, maximum: maxPages }) } : {});
+let ready = instantiate();
 let session = null;
 
 function buffersOf(obj, out = []) {
@@ -105,8 +115,9 @@ self.onmessage = async (event) => {
   if (!session) session = new restitch.Session();
   try {
     handle(restitch, event.data);
-  } catch (e) {  // the bindings never throw; a trap (out of memory, a bug) lands here
-    post({ type: 'error', id: event.data.id, request: event.data.type, code: 'internal',
-           message: `restitch stopped unexpectedly (${e && e.message ? e.message : e}); reload the page` });
+  } catch (e) {  // the bindings return {ok: false} for every refusal; a trap (out of memory, a bug) lands here
+    ready = instantiate();  // the old instance is unusable: the next request gets a new one
+    session = null;
+    post({ type: 'error', id: event.data.id, request: event.data.type, ...trapAnswer(e, event.data.type, maxPages ? maxPages / 16 : 2048) });
   }
 };

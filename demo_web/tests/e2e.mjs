@@ -366,6 +366,32 @@ try {
     return `${a.principal_offsets.length} principal offsets, ${a.candidates.length} candidates`;
   });
 
+  await attempt('a model the worker runs out of memory on gives a message; the page stays usable, the next model opens', async () => {
+    // ?memory=64 caps the module at 64 MB: a 40 x 30 bookshelf (237k triangles) loads but its analysis does
+    // not fit (module.test.mjs measures the same in node). A page of its own: the module prints 'Aborted()'.
+    const p2 = await context.newPage();
+    try {
+      await p2.goto(`${base}index.html?sample=pin_header&memory=64`);
+      const settled = () => p2.waitForFunction(() => ['ready', 'error'].includes(document.body.dataset.status),
+                                               null, { timeout: 120000, polling: 100 });
+      await settled();
+      const st = () => p2.evaluate(() => document.body.dataset.status);
+      assert((await st()) === 'ready', `the pin header did not open: ${await p2.textContent('#error')}`);
+      await p2.evaluate(() => window.restitchDemo.loadSample('bookshelf', { columns: 40, shelves: 30 }));
+      await settled();
+      const text = await p2.textContent('#error');
+      assert((await st()) === 'error', `status ${await st()}`);
+      assert(/ran out of memory while (opening|analysing) the model \(the page can use at most 64 MB/.test(text), `error: ${text}`);
+      await p2.evaluate(() => window.restitchDemo.loadSample('fence', {}));
+      await settled();
+      assert((await st()) === 'ready', `the fence did not open after: ${await p2.textContent('#error')}`);
+      const r = await p2.evaluate(() => window.restitchDemo.setSteps([1, 0, 0]));
+      return `then the fence resized to ${r.triangles} triangles`;
+    } finally {
+      await p2.close();
+    }
+  });
+
   await attempt('the console has no errors', async () => {
     assert(consoleErrors.length === 0, consoleErrors.slice(0, 3).join(' | '));
   });

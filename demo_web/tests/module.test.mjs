@@ -487,3 +487,62 @@ test('a textured real model keeps its textures through a resize', { skip: !fs.ex
     s.delete();
   }
 });
+
+test('a module that runs out of memory traps with Aborted(); trap.js reads it so; a fresh instance loads the next model', async () => {
+  // 64 MB at most (the worker's ?memory=64): a 40 x 30 bookshelf (237k triangles) loads but its analysis
+  // does not fit.
+  const { trapAnswer } = await import('../src/trap.js');
+  const small = await loadRestitch({ wasmMemory: new WebAssembly.Memory({ initial: 512, maximum: 1024 }) });
+  const s = new small.Session();
+  assert.ok(s.loadSample('bookshelf', { columns: 40, shelves: 30 }).ok);
+  let trapped = null;
+  const quiet = console.warn;  // the module prints 'Aborted()' on stderr
+  console.warn = () => {};
+  try {
+    s.analyze('shot', 'brute_force', 'histogram', () => {});
+  } catch (e) {
+    trapped = e;
+  } finally {
+    console.warn = quiet;
+  }
+  assert.ok(trapped, 'the analysis did not run out of memory');
+  assert.equal(trapAnswer(trapped, 'analyze', 64).code, 'out_of_memory', String(trapped));
+  const fresh = await loadRestitch({ wasmMemory: new WebAssembly.Memory({ initial: 512, maximum: 1024 }) });
+  const t = new fresh.Session();
+  assert.ok(t.loadSample('pin_header', {}).ok);
+  const a = t.analyze('shot', 'brute_force', 'histogram', () => {});
+  assert.ok(a.ok, a.message);
+  assert.ok(a.analysis.principal_offsets.length >= 1);
+  t.delete();
+});
+
+// The native command-line tool, when built beside (tests/run.sh runs after the native build stage).
+const nativeCli = process.env.RESTITCH_CLI || path.resolve(here, '../../build/native/restitch');
+
+test('the module writes the same bytes as the native command-line tool, from the same input and options', { skip: !fs.existsSync(nativeCli) && `no native build at ${nativeCli}` }, async () => {
+  // Same .glb in (written by the native tool), default policies, the same resize: byte-identical .glb out.
+  const { execFileSync } = await import('node:child_process');
+  const os = await import('node:os');
+  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'restitch-native-wasm-'));
+  try {
+    for (const [name, steps] of [['pin_header', [2, 0, 0]], ['fence', [-1, 0, 0]], ['bookshelf', [1, -1, 0]],
+                                 ['facade_sheared', [0, 1, 0]]]) {
+      const input = path.join(dir, `${name}.glb`), output = path.join(dir, `${name}-out.glb`);
+      execFileSync(nativeCli, ['sample', name, '-o', input]);
+      execFileSync(nativeCli, ['resize', input, '--steps', steps.join(','), '-o', output]);
+      const s = new restitch.Session();
+      assert.ok(s.loadGltf(new Uint8Array(fs.readFileSync(input))).ok);
+      const a = s.analyze('shot', 'brute_force', 'histogram', () => {});
+      assert.ok(a.ok, a.message);
+      const r = s.retarget(steps[0], steps[1], steps[2], 'lattice');
+      assert.ok(r.ok, r.message);
+      const wasm = Buffer.from(s.saveGlb('result').bytes);
+      s.delete();
+      const native = fs.readFileSync(output);
+      assert.equal(wasm.length, native.length, `${name} ${steps}: ${wasm.length} bytes in WebAssembly, ${native.length} native`);
+      assert.ok(Buffer.compare(wasm, native) === 0, `${name} ${steps}: the bytes differ`);
+    }
+  } finally {
+    fs.rmSync(dir, { recursive: true, force: true });
+  }
+});

@@ -6,6 +6,7 @@ import test from 'node:test';
 import assert from 'node:assert/strict';
 import { WorkerClient } from '../src/worker-client.js';
 import { Session } from '../src/session.js';
+import { trapAnswer, memoryLimitPages } from '../src/trap.js';
 
 class FakeWorker {
   posted = [];  // [message, transfer]
@@ -87,8 +88,42 @@ test('a worker that fails to start rejects what was pending with code internal',
   const r = await state(p);
   assert.equal(r[0], 'rejected');
   assert.equal(r[1].code, 'internal');
-  assert.match(r[1].message, /failed to start \(SyntaxError in worker\.js\)/);
+  assert.match(r[1].message, /worker stopped \(SyntaxError in worker\.js\)/);
   assert.ok(prevented);
+});
+
+test('after the worker died, the next request goes to a new worker (the next file loads)', async () => {
+  const { client, workers, worker } = makeClient();
+  const p = client.request('analyze');
+  const dead = worker();
+  dead.onerror({ message: 'out of memory', preventDefault: () => {} });
+  assert.equal((await state(p))[0], 'rejected');
+  const q = client.request('load', { sample: { name: 'fence' } });
+  assert.equal(workers.length, 2, 'a new worker was made');
+  assert.ok(dead.terminated, 'the dead one was terminated');
+  assert.equal(worker().posted.length, 1);
+  assert.equal(worker().posted[0][0].type, 'load');
+  worker().reply({ type: 'loaded', id: worker().posted[0][0].id });
+  assert.equal((await q).type, 'loaded');
+  client.request('catalog');
+  assert.equal(workers.length, 2, 'a working worker is kept');
+});
+
+test('trap answers: an uncaught C++ exception (a number) is out_of_memory, anything else internal; ?memory in pages', () => {
+  const oom = trapAnswer(5251384, 'analyze', 64);
+  assert.equal(oom.code, 'out_of_memory');
+  assert.match(oom.message, /ran out of memory while analysing the model \(the page can use at most 64 MB/);
+  assert.match(oom.message, /open it or another one again/);
+  const bug = trapAnswer(new WebAssembly.RuntimeError('memory access out of bounds'), 'retarget');
+  assert.equal(bug.code, 'internal');
+  assert.match(bug.message, /stopped unexpectedly while resizing \(memory access out of bounds\); this is a bug/);
+  const aborted = new WebAssembly.RuntimeError('Aborted(). Build with -s ASSERTIONS=1 for more info.');
+  assert.equal(trapAnswer(aborted, 'load').code, 'out_of_memory', 'what a failed allocation gives (measured)');
+  assert.equal(memoryLimitPages(null), 0);
+  assert.equal(memoryLimitPages('abc'), 0);
+  assert.equal(memoryLimitPages('100'), 1600);
+  assert.equal(memoryLimitPages('1'), 64 * 16, 'at least 64 MB');
+  assert.equal(memoryLimitPages('99999'), 2048 * 16, 'at most the module maximum');
 });
 
 test('a Session over the client: promote posts the offsets, a refusal changes nothing, the answer replaces the analysis', async () => {
