@@ -29,6 +29,9 @@
 //                                           plus seam_faces: Uint8Array, 1 for each face (face order) within the
 //                                           slab of a seam whose mismatch passes the tolerance (report.warnings;
 //                                           docs/method.md 2.8), so the page can draw it red.
+//     .prepare(labelSpace, seamEnergy)   -> {ok, ms} | error: builds what the next .retarget with these
+//                                           policies needs (the Retargeter: grid, cell descriptors, stitch
+//                                           cache), so the first slider move pays only for the resize.
 //     .mesh(which)                       -> {ok, positions, normals?, uvs?, colors?, indices, groups[]} | error
 //                                           (which: "input" | "result")
 //     .saveGlb(which)                    -> {ok, bytes: Uint8Array} | error
@@ -64,6 +67,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <set>
 #include <cmath>
 #include <cstdint>
@@ -228,19 +232,29 @@ class Session {
           error(StatusCode::too_large, "the demo allows at most " + std::to_string(max_steps) + " steps per axis"));
     Result<Eigen::Array3i> steps = lattice_steps_from_principal(*analysis_, {s1, s2, s3});
     if (!steps) return status_object(steps.status());
-    if (!retargeter_ || label_space != retargeter_space_ || *energy != retargeter_energy_) {
-      // Build the new one aside: an unknown name or a grid too large keeps the current one usable.
-      auto next = std::make_unique<AnyRetargeter>(*input_, *analysis_, label_space, retarget_options(*energy));
-      if (!next->status()) return status_object(next->status());
-      retargeter_ = std::move(next);
-      retargeter_space_ = label_space;
-      retargeter_energy_ = *energy;
-    }
+    if (Status s = ensure_retargeter(label_space, *energy); !s) return status_object(s);
     retargeter_->set_pivot(*pivots);
     Result<RetargetResult> r = retargeter_->retarget(*steps);
     if (!r) return status_object(r.status());
     result_ = std::make_unique<RetargetResult>(std::move(*r));
     return retarget_answer(*result_, *analysis_, label_space);
+  }
+
+  // Builds the retargeter the next resize with these policies needs (grid, cell descriptors, slabs, the
+  // stitcher's cache), so that resize does not pay for it: the worker calls this right after answering an
+  // analysis. {ok, ms}, or the status when the policies are unknown or the grid is refused.
+  val prepare(const std::string& label_space, const std::string& seam_energy) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Result<SeamEnergy> energy = seam_energy_named(seam_energy);
+    if (!energy) return status_object(energy.status());
+    if (!input_ || !analysis_) return status_object(error(StatusCode::invalid_argument, "analyse the model first"));
+    if (analysis_->principal.empty())
+      return status_object(error(StatusCode::no_repetition, "no principal offset: nothing to prepare"));
+    if (Status s = ensure_retargeter(label_space, *energy); !s) return status_object(s);
+    val out = val::object();
+    out.set("ok", true);
+    out.set("ms", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    return out;
   }
 
   val mesh(const std::string& which) const {
@@ -262,6 +276,18 @@ class Session {
 
  private:
   static constexpr int max_steps = 64;
+
+  // The retargeter for these policies, built unless it is the current one. Built aside: an unknown name or
+  // a grid too large keeps the current one usable.
+  Status ensure_retargeter(const std::string& label_space, SeamEnergy energy) {
+    if (retargeter_ && label_space == retargeter_space_ && energy == retargeter_energy_) return {};
+    auto next = std::make_unique<AnyRetargeter>(*input_, *analysis_, label_space, retarget_options(energy));
+    RESTITCH_TRY(next->status());
+    retargeter_ = std::move(next);
+    retargeter_space_ = label_space;
+    retargeter_energy_ = energy;
+    return {};
+  }
 
   static RetargetOptions retarget_options(SeamEnergy energy) {
     RetargetOptions o;
@@ -497,6 +523,7 @@ EMSCRIPTEN_BINDINGS(restitch_web) {
       .function("retarget", &Session::retarget)
       .function("retarget", &Session::retarget_about)
       .function("retarget", &Session::retarget_with)
+      .function("prepare", &Session::prepare)
       .function("mesh", &Session::mesh)
       .function("saveGlb", &Session::save_glb);
 }

@@ -62,7 +62,8 @@ const panel = new Panel(settings, { figures: $('figures'), progress: $('progress
                                     progressFill: $('progress-fill'), error: $('error') });
 const view = new View({ container: $('viewport'), histogramLabel: $('histogram-label'), insets: overlayInsets });
 const session = new Session(client, {
-  policy: () => ({ descriptor: settings.descriptor, matcher: settings.matcher, detector: settings.detector }),
+  policy: () => ({ descriptor: settings.descriptor, matcher: settings.matcher, detector: settings.detector,
+                   labelSpace: settings.labelSpace, seamEnergy: settings.seamEnergy }),
   hooks: {
     status: (s) => { document.body.dataset.status = s; },
     error: (message) => panel.showError(message),

@@ -1,6 +1,8 @@
 // session.js - the demo's state machine: start, load a model, analyse it, resize it; no DOM, no three.js.
 //
-//   const session = new Session(client, { hooks, policy: () => ({ descriptor, matcher, detector }) });
+//   const session = new Session(client, { hooks, policy: () => ({ descriptor, matcher, detector, labelSpace, seamEnergy }) });
+//   (labelSpace and seamEnergy, when given, go with each analysis and promotion so the worker prepares the
+//   first resize's retargeter while the user looks at the result)
 //   await session.start();                     // the catalog: {samples, policies, version}, or null on failure
 //   await session.load({ sample: { name, params } });   // or { file: { name, bytes } }; analyses it too
 //   await session.resize([a, b, c], labelSpace, pivot);  // resolves once hooks.result has shown it (pivot: 'origin' if not given)
@@ -232,8 +234,9 @@ export class Session {
     Object.assign(this.state, { retarget: null, analysis: null, extras: null, promoted: [] });
     this.#progress('sampling', 0);
     try {
-      const { descriptor, matcher, detector } = this.#policy();
-      const msg = await this.#client.request('analyze', { descriptor, matcher, detector },
+      const { descriptor, matcher, detector, labelSpace, seamEnergy } = this.#policy();
+      const prepare = labelSpace ? { labelSpace, seamEnergy } : undefined;  // the first resize's retargeter
+      const msg = await this.#client.request('analyze', { descriptor, matcher, detector, ...(prepare && { prepare }) },
                                              { onProgress: (stage, f) => this.#progress(stage, f) });
       if (generation !== this.#generation) return;
       this.#hooks.progress(null);
@@ -268,7 +271,9 @@ export class Session {
     this.#promoting = job;
     let generation = this.#generation;
     try {
-      const msg = await this.#client.request('promote', { offsets: job.offsets });
+      const { labelSpace, seamEnergy } = this.#policy();
+      const prepare = labelSpace ? { labelSpace, seamEnergy } : undefined;
+      const msg = await this.#client.request('promote', { offsets: job.offsets, ...(prepare && { prepare }) });
       if (generation !== this.#generation) return;
       this.#promoting = null;
       generation = ++this.#generation;  // a result still on its way to the view is about the old offsets

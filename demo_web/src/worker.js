@@ -5,8 +5,11 @@
 //   {type: 'catalog'}                                  {type: 'catalog', samples, policies, version}
 //   {type: 'load', file: {name, bytes}}                {type: 'loaded', info, mesh, glb}
 //   {type: 'load', sample: {name, params}}             (same)
-//   {type: 'analyze', descriptor, matcher, detector}   {type: 'progress', stage, fraction} ..., then
-//                                                      {type: 'analyzed', analysis, extras, ms}
+//   {type: 'analyze', descriptor, matcher, detector,   {type: 'progress', stage, fraction} ..., then
+//    prepare?: {labelSpace, seamEnergy}}               {type: 'analyzed', analysis, extras, ms}; then, with
+//                                                      `prepare`, the worker builds the retargeter those
+//                                                      policies need before the next request
+//   {type: 'promote', ..., prepare?}                    (the same after a promotion)
 //   {type: 'promote', offsets: [[x, y, z], ...]}       {type: 'promoted', offsets, analysis, extras, ms}
 //     (model units, at most three: they become the first principal offsets, in order; [] goes back to the
 //     detected ones; later retargets step along the new principal offsets. Refused: analysis unchanged.)
@@ -52,6 +55,15 @@ function fail(msg, r) {
   post({ type: 'error', id: msg.id, request: msg.type, code: r.code, message: r.message });
 }
 
+// After an analysis or a promotion has been answered: builds the retargeter the first resize will need
+// ({labelSpace, seamEnergy} of the page, when given), while the user looks at the analysis. A resize asked
+// meanwhile waits for it (requests run in order) and then pays only for itself. A refusal here is not
+// reported: the resize that needs it reports it.
+function prepare(policies) {
+  if (!policies || !policies.labelSpace || !session) return;
+  session.prepare(policies.labelSpace, policies.seamEnergy || 'descriptor');
+}
+
 function handle(restitch, msg) {
   switch (msg.type) {
     case 'catalog':
@@ -72,6 +84,7 @@ function handle(restitch, msg) {
         self.postMessage({ type: 'progress', id: msg.id, stage, fraction }));
       if (!r.ok) return fail(msg, r);
       post({ type: 'analyzed', id: msg.id, analysis: r.analysis, extras: r.extras, ms: performance.now() - t0 });
+      prepare(msg.prepare);
       return;
     }
     case 'promote': {
@@ -80,6 +93,7 @@ function handle(restitch, msg) {
       if (!r.ok) return fail(msg, r);
       post({ type: 'promoted', id: msg.id, offsets: msg.offsets, analysis: r.analysis, extras: r.extras,
              ms: performance.now() - t0 });
+      prepare(msg.prepare);
       return;
     }
     case 'retarget': {

@@ -2,7 +2,8 @@
 // to the view showing it (window.restitchDemo.setSteps), for every bundled sample and every model in
 // ../shared/models, with the page's default policies. Not part of run.sh (it takes minutes); prints one
 // line per model: the analysis's wall time in the worker and its slowest stages; per principal offset the
-// first resize (which builds the Retargeter's caches) and then the later moves (steps 2, 3, 2, 1, -1, 0),
+// first resize, asked one second after the page is ready (a user looking at the analysis: the worker prepares
+// the Retargeter's caches meanwhile, src/worker.js), and then the later moves (steps 2, 3, 2, 1, -1, 0),
 // each from the request to the view showing the result; the retarget's own stages (energy/solve/stitch,
 // median over the later moves, from the report).
 // Usage: node demo_web/tests/measure.mjs [PATTERN] [QUERY]   e.g. `fence matcher=brute_force` (QUERY: the page's
@@ -61,6 +62,7 @@ try {
       console.log(`${label}: ${st}: ${await page.textContent('#error')} (analysis ${ms ? ms.toFixed(0) : '-'} ms: ${stages})`);
       continue;
     }
+    await page.waitForTimeout(1000);  // the user looks at the analysis before moving a slider
     const first = [], later = [], parts = { energy: [], solve: [], stitch: [] };
     let failures = 0;
     for (let axis = 0; axis < a.principal_offsets.length; ++axis) {

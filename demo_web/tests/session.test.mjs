@@ -74,7 +74,7 @@ const retargeted = (steps, triangles) => ({ type: 'retargeted', steps, ms: 3, me
                                              result: { report: { steps_principal: steps.slice(0, 1) } } });
 
 // A session whose hooks record what they were told, plus its fake client.
-function makeSession() {
+function makeSession(policy = { descriptor: 'shot', matcher: 'reduced', detector: 'histogram' }) {
   const client = new FakeClient();
   const calls = [];
   const record = (name) => (...args) => { calls.push([name, ...args]); };
@@ -85,7 +85,7 @@ function makeSession() {
     await new Promise((resolve) => setImmediate(resolve));  // the page waits for a frame here
   };
   let t = 0;
-  const session = new Session(client, { hooks, policy: () => ({ descriptor: 'shot', matcher: 'reduced', detector: 'histogram' }), now: () => (t += 5) });
+  const session = new Session(client, { hooks, policy: () => ({ ...policy }), now: () => (t += 5) });
   return { session, client, calls, named: (name) => calls.filter((c) => c[0] === name) };
 }
 
@@ -135,6 +135,16 @@ test('a load goes loading -> analyzing -> ready, with the policy and the progres
   assert.equal(session.progressReports, 2, 'the first (sampling, 0) and the one from the worker');
   assert.deepEqual(named('progress').at(-1), ['progress', null], 'the progress bar is hidden at the end');
   assert.equal(session.state.analysisMs, 12);
+});
+
+test('with the resize policies known, the analysis asks the worker to prepare the first resize', async () => {
+  const { session, client } = makeSession({ descriptor: 'shot', matcher: 'brute_force', detector: 'histogram',
+                                            labelSpace: 'lattice', seamEnergy: 'geometry' });
+  session.load({ sample: { name: 'bookshelf', params: {} } });
+  await client.answer('load', loaded(4));
+  const req = client.open('analyze')[0];
+  assert.deepEqual(req.payload, { descriptor: 'shot', matcher: 'brute_force', detector: 'histogram',
+                                  prepare: { labelSpace: 'lattice', seamEnergy: 'geometry' } });
 });
 
 test('latest wins: of three rapid resizes the first runs, the middle is superseded, the last runs', async () => {
