@@ -32,7 +32,7 @@
 import { loadRestitch } from './restitch.js';
 import { trapAnswer, memoryLimitPages } from './trap.js';
 
-const maxPages = memoryLimitPages(new URL(self.location.href).searchParams.get('memory'));
+const maxPages = memoryLimitPages(self.location ? new URL(self.location.href).searchParams.get('memory') : null);
 const instantiate = () => loadRestitch(maxPages ? { wasmMemory: new WebAssembly.Memory({ initial: 512, maximum: maxPages }) } : {});
 let ready = instantiate();
 let session = null;

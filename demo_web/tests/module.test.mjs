@@ -546,3 +546,32 @@ test('the module writes the same bytes as the native command-line tool, from the
     fs.rmSync(dir, { recursive: true, force: true });
   }
 });
+
+test('prepare builds the first resize\'s retargeter: same result bytes, refusals in words', () => {
+  const resized = (prepareFirst) => {
+    const s = new restitch.Session();
+    assert.ok(s.loadSample('pin_header', {}).ok);
+    assert.ok(s.analyze('shot', 'brute_force', 'histogram', () => {}).ok);
+    if (prepareFirst) {
+      const p = s.prepare('lattice', 'descriptor');
+      assert.ok(p.ok, p.message);
+      assert.ok(p.ms >= 0);
+      assert.ok(s.prepare('lattice', 'descriptor').ok, 'a second prepare keeps the retargeter');
+    }
+    const r = s.retarget(2, 0, 0, 'lattice');
+    assert.ok(r.ok, r.message);
+    const bytes = Buffer.from(s.saveGlb('result').bytes);
+    s.delete();
+    return bytes;
+  };
+  assert.ok(Buffer.compare(resized(true), resized(false)) === 0);
+  const s = new restitch.Session();
+  assert.equal(s.prepare('lattice', 'descriptor').code, 'invalid_argument', 'nothing analysed yet');
+  assert.ok(s.loadSample('pin_header', {}).ok);
+  assert.ok(s.analyze('shot', 'brute_force', 'histogram', () => {}).ok);
+  const bad = s.prepare('hexagonal', 'descriptor');
+  assert.equal(bad.ok, false);
+  assert.match(bad.message, /label space/);
+  assert.equal(s.prepare('lattice', 'telepathy').ok, false);
+  s.delete();
+});
