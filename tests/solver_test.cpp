@@ -69,6 +69,19 @@ struct EdmondsKarp {
         }
     return seen;
   }
+  // Nodes that reach the sink in the residual graph.
+  std::vector<char> reaches_sink() {
+    std::vector<char> seen(static_cast<std::size_t>(n + 2), 0);
+    std::vector<int> queue{n + 1};
+    seen[static_cast<std::size_t>(n + 1)] = 1;
+    for (std::size_t k = 0; k < queue.size(); ++k)
+      for (int v = 0; v < n + 2; ++v)
+        if (!seen[static_cast<std::size_t>(v)] && at(v, queue[k]) > 0) {
+          seen[static_cast<std::size_t>(v)] = 1;
+          queue.push_back(v);
+        }
+    return seen;
+  }
   Cap max_flow() {
     Cap flow = 0;
     for (;;) {
@@ -167,6 +180,9 @@ void check_against_oracle(std::uint64_t seed, int graphs) {
     // The contract fixes the cut: exactly the nodes reachable from the source.
     const std::vector<char> reach = ek.reachable();
     for (int i = 0; i < g.n; ++i) REQUIRE(mf.in_source_segment(i) == (reach[static_cast<std::size_t>(i)] != 0));
+    // And the sink side: exactly the nodes that reach the sink (the rest could go either way).
+    const std::vector<char> to_sink = ek.reaches_sink();
+    for (int i = 0; i < g.n; ++i) REQUIRE(mf.in_sink_segment(i) == (to_sink[static_cast<std::size_t>(i)] != 0));
   }
 }
 
@@ -642,6 +658,30 @@ TEST_CASE("solver: alpha-expansion moves do not depend on the max-flow back end"
     CHECK(rb.moves_accepted > 0);
     CHECK(rb.energy < rb.initial_energy);
   }
+}
+
+TEST_CASE("solver: the tie rule: a node that could go either way keeps its label, or takes alpha on request",
+          "[solver]") {
+  STATIC_REQUIRE(restitch::has_sink_segment_v<BkMaxFlow<double>>);
+  // Two nodes, two labels, every term 0 but a cost of 1 for node 1 at label 0: expanding label 1 moves
+  // node 1 (it pays less there); node 0 costs the same either way, so it is a tie.
+  TableMrf p(2, 2);
+  p.set_unary(0, 0, 0.0);
+  p.set_unary(0, 1, 0.0);
+  p.set_unary(1, 0, 1.0);
+  p.set_unary(1, 1, 0.0);
+  p.add_edge(0, 1, {0.0, 0.0, 0.0, 0.0});
+  SolveReport keep_report, move_report;
+  std::vector<int> keep{0, 0}, move{0, 0};
+  AlphaExpansion<> keeps;
+  REQUIRE(keeps.solve(p, keep, keep_report).ok());
+  AlphaExpansion<> moves;
+  moves.ties_to_alpha = true;
+  REQUIRE(moves.solve(p, move, move_report).ok());
+  CHECK(keep == std::vector<int>{0, 1});
+  CHECK(move == std::vector<int>{1, 1});
+  CHECK(keep_report.energy == 0.0);
+  CHECK(move_report.energy == 0.0);
 }
 
 TEST_CASE("solver: alpha-expansion input errors and edge cases", "[solver]") {

@@ -17,7 +17,8 @@
 // the term is A + (C - A) x_i + (D - C) x_j + (B + C - A - D)(1 - x_i) x_j,
 // an edge of capacity B + C - A - D >= 0 plus terminal capacities. The
 // minimum cut (max-flow back end; source side = takes alpha, see
-// in_source_segment: a node that could go either way keeps its label) gives
+// in_source_segment: a node that could go either way keeps its label;
+// `ties_to_alpha` makes it take alpha instead, gco-v3.0's rule) gives
 // the best expansion move. The move is applied only if the TRUE energy of
 // the new labelling, evaluated term by term, is lower (strictly, by more than
 // 1e-12 of the magnitude of the terms the move touches, so rounding never
@@ -86,7 +87,8 @@ inline constexpr double max_expansion_capacity = 1e15;
 template <class Problem, class MaxFlow>
 class ExpansionRun {
  public:
-  ExpansionRun(const Problem& problem, std::vector<int>& labels) : p_(problem), labels_(labels) {}
+  ExpansionRun(const Problem& problem, std::vector<int>& labels, bool ties_to_alpha = false)
+      : p_(problem), labels_(labels), ties_to_alpha_(ties_to_alpha) {}
 
   /// Validates the problem and the initial labels; caches the current terms.
   Status start() {
@@ -204,7 +206,7 @@ class ExpansionRun {
     bool any = false;
     for (int i = 0; i < n_; ++i) {
       const int v = var_[idx(i)];
-      const bool moved = v >= 0 && graph_.in_source_segment(v);
+      const bool moved = v >= 0 && takes_alpha(v);
       moved_[idx(i)] = moved;
       if (!moved) continue;
       any = true;
@@ -265,6 +267,16 @@ class ExpansionRun {
   std::vector<double> diff_;
   std::vector<std::pair<int, double>> affected_;  // edges of moved nodes and their new terms
   MaxFlow graph_;
+  bool ties_to_alpha_ = false;
+
+  // Whether graph node v takes alpha: on the source side of the smallest minimum cut (a node that could go
+  // either way keeps its label), or, with ties_to_alpha and a back end that reports the sink side, of the
+  // largest (such a node takes alpha, gco-v3.0's choice).
+  bool takes_alpha(int v) const {
+    if constexpr (has_sink_segment_v<MaxFlow>)
+      if (ties_to_alpha_) return !graph_.in_sink_segment(v);
+    return graph_.in_source_segment(v);
+  }
 };
 
 }  // namespace detail
@@ -288,6 +300,10 @@ class AlphaExpansion {
   /// At most this many passes over the labels (the solver usually stops far
   /// earlier, when no expansion lowers the energy; report.converged then).
   int max_cycles = 100;
+  /// Which minimum cut an expansion takes when several have the same cost: false (default), the one that
+  /// moves fewest nodes (a node that could go either way keeps its label); true, the one that moves most
+  /// (it takes alpha, as gco-v3.0 does). Needs a back end with in_sink_segment (BkMaxFlow has it).
+  bool ties_to_alpha = false;
   MoveObserver on_move;
 
   /// See the solver policy contract in restitch/solver/mrf.hpp. Progress is
@@ -303,7 +319,7 @@ class AlphaExpansion {
                     "(node_count, label_count, unary, edge_count, edge, pairwise; see restitch/solver/mrf.hpp)");
       const auto t0 = std::chrono::steady_clock::now();
       report = SolveReport();
-      detail::ExpansionRun<Problem, MaxFlow> run(problem, labels);
+      detail::ExpansionRun<Problem, MaxFlow> run(problem, labels, ties_to_alpha);
       const auto finish = [&](Status s) {
         report.non_metric_detected = run.non_metric();
         if (static_cast<long long>(labels.size()) == problem.node_count() && s.code() != StatusCode::invalid_argument)

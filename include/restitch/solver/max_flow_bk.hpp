@@ -112,6 +112,18 @@ struct is_max_flow<
 template <class T>
 inline constexpr bool is_max_flow_v = detail::is_max_flow<T>::value;
 
+namespace detail {
+template <class T, class = void>
+struct has_sink_segment : std::false_type {};
+template <class T>
+struct has_sink_segment<T, std::void_t<decltype(std::declval<const T&>().in_sink_segment(0))>> : std::true_type {};
+}  // namespace detail
+
+/// True when the back end also reports the sink side (optional: `bool in_sink_segment(int) const`, whether
+/// node i reaches the sink in the residual graph); AlphaExpansion::ties_to_alpha needs it.
+template <class T>
+inline constexpr bool has_sink_segment_v = detail::has_sink_segment<T>::value;
+
 /// Boykov-Kolmogorov max-flow / min-cut. See the top of this file.
 template <class Cap = double>
 class BkMaxFlow {
@@ -218,6 +230,14 @@ class BkMaxFlow {
     RESTITCH_ASSERT(solved_, "BkMaxFlow::in_source_segment: call max_flow() first");
     RESTITCH_ASSERT(i >= 0 && i < node_count(), "BkMaxFlow::in_source_segment: node id out of range");
     return nodes_[i].parent != kFree && !nodes_[i].in_sink_tree;
+  }
+
+  /// Whether node i reaches the sink in the residual graph: on the sink side of every minimum cut
+  /// (the nodes in neither segment could go either way). Valid after max_flow(). Cost O(1).
+  bool in_sink_segment(int i) const {
+    RESTITCH_ASSERT(solved_, "BkMaxFlow::in_sink_segment: call max_flow() first");
+    RESTITCH_ASSERT(i >= 0 && i < node_count(), "BkMaxFlow::in_sink_segment: node id out of range");
+    return nodes_[i].parent != kFree && nodes_[i].in_sink_tree;
   }
 
   /// The flow value so far.
