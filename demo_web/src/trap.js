@@ -12,7 +12,7 @@
 
 const requestWords = {
   load: 'opening the model', analyze: 'analysing the model', promote: 'promoting the offset',
-  retarget: 'resizing', save: 'saving', catalog: 'starting',
+  retarget: 'resizing', save: 'saving', catalog: 'starting', prepare: 'preparing the first resize',
 };
 
 export function trapAnswer(e, request, limitMb = 2048) {

@@ -26,7 +26,8 @@
 // A trap in the module (WebAssembly has no C++ exceptions here, so a failed allocation aborts the call, as
 // would a bug) leaves the module's state unusable: the answer is {type: 'error', code: 'out_of_memory'} (an
 // uncaught C++ exception: the library throws nothing else) or 'internal' (any other trap), the module
-// instance is dropped with the model loaded in it, and the next request gets a fresh one. The worker's URL
+// instance is dropped with the model loaded in it, and the next request gets a fresh one (a trap while
+// preparing the first resize, after the analysis was answered, is the answer to the next request). The worker's URL
 // may carry ?memory=MB, the most memory the module may grow to (default and upper bound 2048 MB, the
 // module's link-time maximum; lower bound 64 MB).
 import { loadRestitch } from './restitch.js';
@@ -34,8 +35,10 @@ import { trapAnswer, memoryLimitPages } from './trap.js';
 
 const maxPages = memoryLimitPages(self.location ? new URL(self.location.href).searchParams.get('memory') : null);
 const instantiate = () => loadRestitch(maxPages ? { wasmMemory: new WebAssembly.Memory({ initial: 512, maximum: maxPages }) } : {});
+const limitMb = maxPages ? maxPages / 16 : 2048;
 let ready = instantiate();
 let session = null;
+let closed = null;  // {code, message} when a trap closed the model outside a request (see prepare)
 
 function buffersOf(obj, out = []) {
   if (!obj || typeof obj !== 'object') return out;
@@ -61,7 +64,13 @@ function fail(msg, r) {
 // reported: the resize that needs it reports it.
 function prepare(policies) {
   if (!policies || !policies.labelSpace || !session) return;
-  session.prepare(policies.labelSpace, policies.seamEnergy || 'descriptor');
+  try {
+    session.prepare(policies.labelSpace, policies.seamEnergy || 'descriptor');
+  } catch (e) {  // a trap after the answer went out: the next request (a resize, a save) is told why
+    closed = trapAnswer(e, 'prepare', limitMb);
+    ready = instantiate();
+    session = null;
+  }
 }
 
 function handle(restitch, msg) {
@@ -127,11 +136,17 @@ self.onmessage = async (event) => {
     return;
   }
   if (!session) session = new restitch.Session();
+  if (closed && event.data.type !== 'load' && event.data.type !== 'catalog') {
+    post({ type: 'error', id: event.data.id, request: event.data.type, ...closed });
+    closed = null;
+    return;
+  }
+  closed = null;
   try {
     handle(restitch, event.data);
   } catch (e) {  // the bindings return {ok: false} for every refusal; a trap (out of memory, a bug) lands here
     ready = instantiate();  // the old instance is unusable: the next request gets a new one
     session = null;
-    post({ type: 'error', id: event.data.id, request: event.data.type, ...trapAnswer(e, event.data.type, maxPages ? maxPages / 16 : 2048) });
+    post({ type: 'error', id: event.data.id, request: event.data.type, ...trapAnswer(e, event.data.type, limitMb) });
   }
 };
