@@ -49,6 +49,8 @@ export class View {
     this.controls = new OrbitControls(this.camera, renderer.domElement);
     this.controls.addEventListener('change', () => this.render());
 
+    this.#warmUp();
+
     this.histScene = new THREE.Scene();
     this.histScene.background = new THREE.Color(0x16181c);
     this.histCamera = new THREE.PerspectiveCamera(35, 1, 0.01, 100);
@@ -60,6 +62,26 @@ export class View {
       this.renderer.setSize(window.innerWidth, window.innerHeight);
       this.render();
     });
+  }
+
+  // Compiles, before any result is drawn, the shader programs the first resize result adds (the seam
+  // overlay: transparent double-sided faces and lines), so the first slider move does not wait for them.
+  // three.js keys programs by material kind and parameters, so stand-ins of the same kinds are enough.
+  #warmUp() {
+    const group = new THREE.Group();
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.Float32BufferAttribute([0, 0, 0, 1, 0, 0, 0, 1, 0], 3));
+    const materials = [
+      new THREE.MeshBasicMaterial({ transparent: true, opacity: 0.5, side: THREE.DoubleSide, depthWrite: false }),
+      new THREE.LineBasicMaterial(),
+      new THREE.MeshStandardMaterial({ vertexColors: true, side: THREE.DoubleSide }),
+    ];
+    group.add(new THREE.Mesh(geometry, materials[0]), new THREE.LineSegments(geometry, materials[1]),
+              new THREE.Mesh(geometry, materials[2]));
+    this.scene.add(group);
+    this.renderer.compile(this.scene, this.camera);
+    this.scene.remove(group);
+    geometry.dispose();  // the materials are kept: disposing them would release their programs
   }
 
   render() {
