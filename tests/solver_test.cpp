@@ -682,6 +682,13 @@ TEST_CASE("solver: the tie rule: a node that could go either way keeps its label
   CHECK(move == std::vector<int>{1, 1});
   CHECK(keep_report.energy == 0.0);
   CHECK(move_report.energy == 0.0);
+  // A back end that cannot report the sink side refuses the option rather than ignore it.
+  STATIC_REQUIRE_FALSE(restitch::has_sink_segment_v<EdmondsKarpBackEnd>);
+  AlphaExpansion<EdmondsKarpBackEnd> oracle;
+  oracle.ties_to_alpha = true;
+  std::vector<int> labels{0, 0};
+  SolveReport report;
+  CHECK(oracle.solve(p, labels, report).code() == restitch::StatusCode::invalid_argument);
 }
 
 TEST_CASE("solver: alpha-expansion input errors and edge cases", "[solver]") {

@@ -302,7 +302,8 @@ class AlphaExpansion {
   int max_cycles = 100;
   /// Which minimum cut an expansion takes when several have the same cost: false (default), the one that
   /// moves fewest nodes (a node that could go either way keeps its label); true, the one that moves most
-  /// (it takes alpha, as gco-v3.0 does). Needs a back end with in_sink_segment (BkMaxFlow has it).
+  /// (it takes alpha, as gco-v3.0 does). Needs a back end with in_sink_segment (BkMaxFlow has it); with
+  /// one that lacks it, solve() refuses (invalid_argument).
   bool ties_to_alpha = false;
   MoveObserver on_move;
 
@@ -313,6 +314,10 @@ class AlphaExpansion {
   template <class Problem>
   Status solve(const Problem& problem, std::vector<int>& labels, SolveReport& report,
                const Progress& progress = Progress()) const {
+    if constexpr (!has_sink_segment_v<MaxFlow>)  // an option that cannot be honoured is refused, not ignored
+      if (ties_to_alpha)
+        return error(StatusCode::invalid_argument,
+                     "AlphaExpansion::ties_to_alpha needs a max-flow back end with in_sink_segment");
     return detail::guarded("AlphaExpansion::solve", [&]() -> Status {
       static_assert(is_labelling_problem_v<Problem>,
                     "AlphaExpansion::solve: the problem type does not satisfy the labelling problem contract "
