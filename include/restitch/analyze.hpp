@@ -536,8 +536,16 @@ Status promote_offsets(const Mesh& mesh, const AnalysisOptions<D, M, Det>& optio
     const PointSet anchors = detail::vertex_anchors(b);
     const SelfAligner aligner(b.dense, icp, anchors.size() ? &anchors : nullptr);
     const double radius = icp.overlap_radius();
+    Eigen::Matrix<double, Eigen::Dynamic, 3> P;
+    if (options.snap_to_vertices) P = detail::unique_normalized_vertices(mesh, b.normalization);
     for (std::size_t i = 0; i < offsets.size(); ++i) {
-      const Eigen::Vector3d t = aligner.refine(b.normalization.to_normalized_offset(offsets[i])).offset;
+      const Eigen::Vector3d typed = b.normalization.to_normalized_offset(offsets[i]);
+      Eigen::Vector3d t = aligner.refine(typed).offset;
+      bool kept = false;  // the value typed, snapped, rather than ICP's
+      if (options.snap_to_vertices) {  // the value typed stands where it repeats more vertices (docs/method.md 1.10)
+        const SnapResult at_typed = snap_offset(P, typed, options.snap);
+        if (at_typed.snapped && at_typed.pairs > snap_offset(P, t, options.snap).pairs) t = at_typed.offset, kept = true;
+      }
       if (!(t.norm() > radius))
         return error(StatusCode::invalid_argument,
                      "offset " + std::to_string(i + 1) + " is no repeat: refined, it slides onto the model itself");
@@ -552,6 +560,7 @@ Status promote_offsets(const Mesh& mesh, const AnalysisOptions<D, M, Det>& optio
         std::vector<DominantOffset> added;
         RESTITCH_TRY(refine_and_test(evidence, {OffsetCandidate{t, 0, 0, {}}}, SignificanceOptions{}, {}, added));
         if (added.empty()) return error(StatusCode::internal, "the promoted offset was not refined");
+        if (kept) added.front().offset = t;  // its tests stay those of where ICP goes from it, for the report
         found = int(b.dominant.size());
         b.dominant.push_back(added.front());
       }
@@ -562,8 +571,6 @@ Status promote_offsets(const Mesh& mesh, const AnalysisOptions<D, M, Det>& optio
       b.promoted.push_back(found);
     }
     const auto t0 = std::chrono::steady_clock::now();
-    Eigen::Matrix<double, Eigen::Dynamic, 3> P;
-    if (options.snap_to_vertices) P = detail::unique_normalized_vertices(mesh, b.normalization);
     RESTITCH_TRY(detail::select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, b));
     b.timings_ms["promotion"] = detail::elapsed_ms(t0);
     a = std::move(b);

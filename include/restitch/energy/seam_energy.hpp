@@ -171,7 +171,7 @@ class SeamMrf {
           if (k_[a] == 0) continue;
           const bool low = end_low[a] > 0 && s[a] == 0 && cx[a] != 0;
           const bool high = end_high[a] < 1 && s[a] == in_.dims[a] - 1 && cx[a] != out_.dims[a] - 1;
-          if (low || high) unary_[std::size_t(x) * std::size_t(m) + std::size_t(l)] += empty_mismatch_;
+          if (low || high) unary_[std::size_t(x) * std::size_t(m) + std::size_t(l)] += forbidden_;
         }
       }
     }
@@ -214,6 +214,80 @@ class SeamMrf {
       for (int a = 0; a < 3; ++a) d[a] = (2 * cx[a] >= out_.dims[a]) ? k_[a] : 0;
       lab[std::size_t(x)] = label_of(d);
     }
+    return lab;
+  }
+
+  /// A second starting labelling (docs/method.md 2.5): the best labelling whose shift along each
+  /// resized axis a depends only on the cell's index along a (seams that run straight through the
+  /// model), found axis by axis by dynamic programming over the chain of slices (exact for one
+  /// resized axis; two sweeps from initial_labels() otherwise). Alpha-expansion changes one label at
+  /// a time, so where a good labelling needs two neighbouring cells changed together (a fence's post
+  /// tops) it can stop short of it; from here it need not. Ties go to the smaller shift. Cost: per
+  /// resized axis and sweep, (|k_a| + 1)^2 pairwise terms per edge.
+  std::vector<int> separable_labels() const {
+    std::array<std::vector<int>, 3> f;  // per axis and index along it: |d_a|
+    std::array<int, 3> m{};             // shifts per axis
+    for (int a = 0; a < 3; ++a) {
+      m[std::size_t(a)] = std::abs(k_[a]) + 1;
+      f[std::size_t(a)].resize(std::size_t(out_.dims[a]));
+      for (int i = 0; i < out_.dims[a]; ++i)
+        f[std::size_t(a)][std::size_t(i)] = 2 * i >= out_.dims[a] ? m[std::size_t(a)] - 1 : 0;
+    }
+    // Label index with axis a's shift replaced by t (labels are ordered x fastest, build_labels).
+    const auto label = [&](const Eigen::Array3i& c, int a, int t) {
+      int u[3];
+      for (int b = 0; b < 3; ++b) u[b] = b == a ? t : f[std::size_t(b)][std::size_t(c[b])];
+      return u[0] + m[0] * (u[1] + m[1] * u[2]);
+    };
+    for (int sweep = 0; sweep < 2; ++sweep)
+      for (int a = 0; a < 3; ++a) {
+        if (k_[a] == 0) continue;
+        const int U = out_.dims[a], M = m[std::size_t(a)];
+        std::vector<double> slice(std::size_t(U) * M, 0.0), step(std::size_t(std::max(U - 1, 0)) * M * M, 0.0);
+        for (int x = 0; x < node_count(); ++x) {
+          const Eigen::Array3i c = out_.cell(x);
+          for (int t = 0; t < M; ++t) slice[std::size_t(c[a]) * M + t] += unary(x, label(c, a, t));
+        }
+        for (int e = 0; e < edge_count(); ++e) {
+          const auto [x, y] = edges_[std::size_t(e)];
+          const Eigen::Array3i cx = out_.cell(x), cy = out_.cell(y);
+          if (cx[a] == cy[a]) {
+            for (int t = 0; t < M; ++t) slice[std::size_t(cx[a]) * M + t] += pairwise(e, label(cx, a, t), label(cy, a, t));
+            continue;
+          }
+          const bool x_low = cx[a] < cy[a];  // neighbours differ by one along a
+          double* s = &step[std::size_t(std::min(cx[a], cy[a])) * M * M];
+          for (int t = 0; t < M; ++t)      // t: the lower slice's shift
+            for (int u = 0; u < M; ++u) {  // u: the upper slice's
+              const int lx = label(cx, a, x_low ? t : u), ly = label(cy, a, x_low ? u : t);
+              s[t * M + u] += pairwise(e, lx, ly);
+            }
+        }
+        // Viterbi along the chain; strict improvement only, so ties keep the smaller shift.
+        std::vector<double> best(slice.begin(), slice.begin() + M);
+        std::vector<int> from(std::size_t(U) * M, 0);
+        for (int i = 1; i < U; ++i) {
+          std::vector<double> reached(static_cast<std::size_t>(M));
+          for (int u = 0; u < M; ++u) {
+            double b = INFINITY;
+            int arg = 0;
+            for (int t = 0; t < M; ++t) {
+              const double v = best[std::size_t(t)] + step[std::size_t(i - 1) * M * M + std::size_t(t * M + u)];
+              if (v < b) b = v, arg = t;
+            }
+            reached[std::size_t(u)] = b + slice[std::size_t(i) * M + u];
+            from[std::size_t(i) * M + u] = arg;
+          }
+          best.swap(reached);
+        }
+        int t = int(std::min_element(best.begin(), best.end()) - best.begin());
+        for (int i = U - 1; i >= 0; --i) {
+          f[std::size_t(a)][std::size_t(i)] = t;
+          t = from[std::size_t(i) * M + t];
+        }
+      }
+    std::vector<int> lab(static_cast<std::size_t>(node_count()));
+    for (int x = 0; x < node_count(); ++x) lab[std::size_t(x)] = label(out_.cell(x), -1, 0);
     return lab;
   }
 

@@ -56,8 +56,17 @@
 // the end cell once moved outward (those past the model's end aside); it
 // reaches from the inner cell plane toward the end up to a band before the
 // first sample that fails either test. So a cap does not cut through an
-// end's own parts (a fence's end post, a panel). Without a candidate the cell
+// end's own parts (a fence's end post, a panel). Without a candidate the cap
+// is the whole end cell (end_low 1, end_high 0) when there are three cells or
+// more; with two, each end's comparison meets the other end, and the cell
 // plane stays.
+//
+// Ends reaching across a plane: before the end planes, an end cell whose own
+// part (where it fails the periodic comparison) reaches its inner plane, within
+// a band, and whose neighbour fails it only next to that plane, less than
+// `sliver` of it, joins that neighbour (its geometry becomes the new end cell's
+// overhang): a fence post the phase cut 0.0135 from its face no longer leaves
+// that piece in the picket cell beside it. Needs three cells; once per end.
 //
 // Contract: `mesh` passes restitch::validate; `norm` is the analysis's
 // normalization; `dense` holds normalized surface samples (may be empty: then
@@ -252,25 +261,48 @@ inline Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& nor
     start[a] = s0 + double(first);
     cells[a] = int(last - first);
 
+    const double margin = std::max(h, 1e-9);
+    const Eigen::Vector3d period = A.col(a);
+    const double tau = 1.5 * options.band, tau_canonical = tau * row_norm;
+    const Eigen::RowVector3d to_axis = Ainv.row(a);
+    const auto rel_from = [&](double plane) {
+      return [&dense, to_axis, plane](Eigen::Index i) {
+        return to_axis.dot(dense.points.row(i).cast<double>()) - plane;
+      };
+    };
+    // Ends reaching across a plane (header comment): the end cell joins its neighbour when its own part
+    // runs up to the plane between them and on into the neighbour, less than `sliver` of it.
+    if (dense.points.rows() > 0 && cells[a] >= 3) {
+      const double reach_end = detail::periodic_reach(dense, dense_tree(), period, rel_from(start[a]), +1,
+                                                      lo[a] - start[a], tau_canonical, tau);
+      if (reach_end >= 1 - margin) {
+        const double reach_next = detail::periodic_reach(dense, dense_tree(), period, rel_from(start[a] + 1), +1,
+                                                         -1.0, tau_canonical, tau);
+        if (reach_next > 0 && reach_next <= options.sliver) start[a] += 1, --cells[a];
+      }
+    }
+    if (dense.points.rows() > 0 && cells[a] >= 3) {
+      const double last = start[a] + double(cells[a] - 1);
+      const double reach_end = detail::periodic_reach(dense, dense_tree(), period, rel_from(last), -1,
+                                                      hi[a] - last, tau_canonical, tau);
+      if (reach_end <= margin) {
+        const double reach_next =
+            detail::periodic_reach(dense, dense_tree(), period, rel_from(last - 1), -1, 2.0, tau_canonical, tau);
+        if (reach_next < 1 && reach_next >= 1 - options.sliver) --cells[a];
+      }
+    }
+
     // End planes: inside an end cell the geometry does not fill, within its periodic part (header comment).
     const double lo_rel = lo[a] - start[a], hi_rel = hi[a] - start[a];  // the model's ends, cells from start
-    const double margin = std::max(h, 1e-9);
     const double high_room = hi_rel - double(cells[a] - 1);  // filled share of the last cell
     if (cells[a] >= 2 && dense.points.rows() > 0) {
-      const Eigen::Vector3d period = A.col(a);
-      const double tau = 1.5 * options.band, tau_canonical = tau * row_norm;
-      const Eigen::RowVector3d to_axis = Ainv.row(a);
-      const auto rel_from = [&](double plane) {
-        return [&dense, to_axis, plane](Eigen::Index i) {
-          return to_axis.dot(dense.points.row(i).cast<double>()) - plane;
-        };
-      };
       const double reach_low =
           detail::periodic_reach(dense, dense_tree(), period, rel_from(start[a]), +1, lo_rel, tau_canonical, tau);
       if (lo_rel > margin || reach_low > 0) {
         const double from = std::max(lo_rel, reach_low) + margin;
         const int j = detail::choose_end(cost, k, int(std::floor(from * K)) + 1, K - 1);
         if (j > 0) fit.lattice.end_low[a] = double(j) / K;
+        else if (j < 0 && reach_low > 0 && cells[a] >= 3) fit.lattice.end_low[a] = 1.0;  // the whole cell (header)
       }
       const double reach_high = detail::periodic_reach(dense, dense_tree(), period,
                                                        rel_from(start[a] + double(cells[a] - 1)), -1, high_room,
@@ -279,6 +311,7 @@ inline Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& nor
         const double to = std::min(high_room, reach_high) - margin;
         const int j = detail::choose_end(cost, k, 1, int(std::ceil(to * K)) - 1);
         if (j > 0) fit.lattice.end_high[a] = double(j) / K;
+        else if (j < 0 && reach_high < 1 && cells[a] >= 3) fit.lattice.end_high[a] = 0.0;  // the whole cell (header)
       }
     }
   }

@@ -22,11 +22,12 @@ struct Lattice {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< model-space point of canonical (0,0,0)
   Eigen::Array3i cells = Eigen::Array3i::Ones();     ///< input cells U_in, V_in, W_in
   std::array<bool, 3> dummy{{false, false, false}};  ///< column a is a dummy direction (never resized)
-  /// Where the input's ends begin, as canonical positions within the first cell (end_low, in [0, 1))
-  /// and within the last cell (end_high, in (0, 1]; the plane at cells[a] - 1 + end_high). An output
+  /// Where the input's ends begin, as canonical positions within the first cell (end_low, in [0, 1])
+  /// and within the last cell (end_high, in [0, 1]; the plane at cells[a] - 1 + end_high). An output
   /// end whose cell is not the input's end cell is cut there and given the input's end from there on
-  /// (an end cap, restitch/stitch/stitch.hpp). The cell planes (0 and 1) unless an end cell is not
-  /// full, so that the end must start inside it (restitch/lattice/fit.hpp).
+  /// (an end cap, restitch/stitch/stitch.hpp). The outer cell planes (end_low 0, end_high 1: the cap is
+  /// the overhang) unless an end cell is not full or not periodic, so that the end starts inside it;
+  /// end_low 1 / end_high 0 when the whole end cell is the end (restitch/lattice/fit.hpp).
   Eigen::Array3d end_low = Eigen::Array3d::Zero(), end_high = Eigen::Array3d::Ones();
 
   /// A's inverse; A is invertible by construction (principal offsets are at least 60 degrees apart).

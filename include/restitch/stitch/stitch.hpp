@@ -259,7 +259,7 @@ class ClipStitcher {
       for (; cap < regions.caps.size() && regions.caps[cap].owner == r; ++cap) {  // its end caps
         const detail::Region end(regions, cap, out_grid, lat.cells);
         gather_triangles(cache, out_grid, regions, end, stamp, gathered);
-        const bool at_cell_plane = end.cap_plane == std::floor(end.cap_plane);  // then only overhangs
+        const bool at_cell_plane = !regions.caps[cap].cuts_owner;  // the outer cell plane: only overhangs
         for (std::uint32_t t : gathered)
           if (!at_cell_plane || (cache.overhang(t) & end.cap_flag())) {
             clipper.add_triangle(end, t);

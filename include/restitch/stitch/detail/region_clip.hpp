@@ -45,7 +45,7 @@ struct Region {
       : id(r), owner(r), d(regions.shift[std::size_t(r)]) {
     set_keep(out, cells_in);
     for (const StitchRegions::Cap& c : regions.caps) {  // the caps at planes inside a cell cut this region
-      if (c.owner != r || c.owner_plane == std::floor(c.owner_plane)) continue;
+      if (c.owner != r || !c.cuts_owner) continue;
       (c.side == 0 ? end_from : end_to)[std::size_t(c.axis)] = c.owner_plane;
       end_cut = true;
     }

@@ -45,6 +45,7 @@ struct StitchRegions {
     int face = 0;            ///< the output face's cell index along axis (0 or U_out - 1)
     double plane = 0;        ///< the end plane, canonical coordinate along axis in the input
     double owner_plane = 0;  ///< the same plane in the owner's source cell (where the owner is cut)
+    bool cuts_owner = false; ///< the plane is not the cell's outer plane: the owner keeps only what lies before it
     Eigen::Array3i shift = Eigen::Array3i::Zero();
   };
   std::vector<Cap> caps;
@@ -116,6 +117,7 @@ inline StitchRegions build_regions(const Lattice& lattice, const CellGrid& out,
         const int source = face - d(a);  // the owner's source cell along a
         cap.plane = side == 0 ? lattice.end_low(a) : double(in.dims(a) - 1) + lattice.end_high(a);
         cap.owner_plane = double(source) + (side == 0 ? lattice.end_low(a) : lattice.end_high(a));
+        cap.cuts_owner = side == 0 ? lattice.end_low(a) > 0 : lattice.end_high(a) < 1;
         g.caps.push_back(cap);
       }
   for (const StitchRegions::Cap& c : g.caps) g.translation.push_back(lattice.shift(c.shift));
