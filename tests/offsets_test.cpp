@@ -360,3 +360,38 @@ TEST_CASE("lattice fit: sheared axes, phase tie rule, bad axes", "[lattice][fit]
   CHECK(L.to_model(L.to_canonical(p)).isApprox(p));
   CHECK(fit->phase.isApprox(Eigen::Array3d::Zero()));  // no samples: every phase costs 0 -> phase 0
 }
+
+TEST_CASE("vertex_double_drift: 0 where the vertices repeat at t and 2t, NaN for two copies or no repeat",
+          "[offsets][detector]") {
+  // n unit-ish boxes 0.15 apart along x (8 corners each), plus one big box that does not repeat (a post):
+  // the vertices repeat at t = 0.15 and 2t from three boxes on.
+  const auto corners = [](int n) {
+    std::vector<Vector3d> P;
+    const auto box = [&P](const Vector3d& lo, const Vector3d& hi) {
+      for (int c = 0; c < 8; ++c)
+        P.emplace_back(c & 1 ? hi.x() : lo.x(), c & 2 ? hi.y() : lo.y(), c & 4 ? hi.z() : lo.z());
+    };
+    for (int i = 0; i < n; ++i) box(Vector3d(0.03 + 0.15 * i, 0, 0), Vector3d(0.12 + 0.15 * i, 1, 0.02));
+    box(Vector3d(0.15 * n + 0.01, -0.1, -0.05), Vector3d(0.15 * n + 0.11, 1.2, 0.05));
+    PointSet s;
+    s.points.resize(Eigen::Index(P.size()), 3);
+    s.normals.setZero(Eigen::Index(P.size()), 3);
+    for (std::size_t i = 0; i < P.size(); ++i) s.points.row(Eigen::Index(i)) = P[i].cast<float>().transpose();
+    return s;
+  };
+  const Vector3d t(0.15, 0, 0), off(0.004, 0.002, 0);  // ICP's offset: within a dense spacing of the true one
+  for (const int n : {3, 4, 6}) {
+    INFO(n << " copies");
+    const PointSet s = corners(n);
+    CHECK(detail::vertex_double_drift(&s, t + off) < 1e-6);
+    CHECK(detail::vertex_double_drift(&s, -(t + off)) < 1e-6);
+  }
+  const PointSet two = corners(2);
+  CHECK(std::isnan(detail::vertex_double_drift(&two, t + off)));  // no vertex at 2t: ICP's drift stands
+  CHECK(std::isnan(detail::vertex_double_drift(&two, Vector3d(0.07, 0, 0))));  // no repeat at t
+  CHECK(std::isnan(detail::vertex_double_drift(nullptr, t)));
+  // least_drift keeps ICP's where the vertices say nothing.
+  CHECK(detail::least_drift(2.0, NAN) == 2.0);
+  CHECK(detail::least_drift(2.0, 0.0) == 0.0);
+  CHECK(detail::least_drift(0.1, 0.5) == 0.1);
+}

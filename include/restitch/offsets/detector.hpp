@@ -330,7 +330,8 @@ inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<Offset
     if (ok) d.contrast = kink(r.offset, r.overlap), ok = test("contrast", d.contrast, tests.min_contrast);
     if (ok) {
       const RefinedOffset r2 = aligner.refine(2 * r.offset);
-      d.double_drift = (r2.offset - 2 * r.offset).norm();
+      d.double_drift = detail::least_drift((r2.offset - 2 * r.offset).norm(),
+                                           detail::vertex_double_drift(ev.anchors, r.offset));
       d.overlap_double = aligner.overlap(2 * r.offset);
       ok = test("double_drift", d.double_drift / ev.dense_spacing, tests.max_double_drift, true) &&
            test("repeat", d.overlap > 0 ? d.overlap_double / d.overlap : 1.0, tests.min_repeat_ratio);
