@@ -725,14 +725,17 @@ TEST_CASE("SeamMrf::separable_labels: the best straight-seam labelling (brute fo
         }
         const std::vector<int> straight = P.separable_labels();
         CHECK(restitch::energy(P, straight) == Approx(best).epsilon(1e-12));
-        // The Retargeter solves from both starts and keeps the lower energy.
+        // The Retargeter solves from the first start, and again from the straight one where that already
+        // beats the first result; it keeps the lower energy.
         std::vector<int> first = P.initial_labels(), second = straight;
         SolveReport r1, r2;
         REQUIRE(AlphaExpansion<>{}.solve(P, first, r1).ok());
         REQUIRE(AlphaExpansion<>{}.solve(P, second, r2).ok());
         auto out = r.retarget(steps);
         REQUIRE(out.ok());
-        CHECK(out->report.energy == std::min(r1.energy, r2.energy));
+        const bool second_run = restitch::energy(P, straight) < r1.energy;
+        CHECK(out->report.energy == (second_run ? std::min(r1.energy, r2.energy) : r1.energy));
+        CHECK(out->report.energy <= std::min(r1.energy, restitch::energy(P, straight)));
       }
     }
   }

@@ -217,6 +217,15 @@ class SeamMrf {
     return lab;
   }
 
+  /// How many pairwise terms separable_labels() evaluates (its cost).
+  double separable_terms() const {
+    int resized = 0;
+    double per_sweep = 0;
+    for (int a = 0; a < 3; ++a)
+      if (k_[a] != 0) ++resized, per_sweep += double(std::abs(k_[a]) + 1) * double(std::abs(k_[a]) + 1) * edge_count();
+    return (resized > 1 ? 2 : 1) * per_sweep;
+  }
+
   /// A second starting labelling (docs/method.md 2.5): the best labelling whose shift along each
   /// resized axis a depends only on the cell's index along a (seams that run straight through the
   /// model), found axis by axis by dynamic programming over the chain of slices (exact for one
@@ -239,7 +248,8 @@ class SeamMrf {
       for (int b = 0; b < 3; ++b) u[b] = b == a ? t : f[std::size_t(b)][std::size_t(c[b])];
       return u[0] + m[0] * (u[1] + m[1] * u[2]);
     };
-    for (int sweep = 0; sweep < 2; ++sweep)
+    const int sweeps = (k_ != 0).count() > 1 ? 2 : 1;  // one axis: one exact pass
+    for (int sweep = 0; sweep < sweeps; ++sweep)
       for (int a = 0; a < 3; ++a) {
         if (k_[a] == 0) continue;
         const int U = out_.dims[a], M = m[std::size_t(a)];
