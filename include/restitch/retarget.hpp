@@ -568,12 +568,35 @@ class Retargeter {
         const int a = e[0] != 0 ? 0 : e[1] != 0 ? 1 : 2;
         const int j = planes.moved(a) ? planes.j[std::size_t(a)][std::size_t(y[a])] : 0;
         seam.offset = double(j) / planes.K;
-        if (j == 0)
-          seam.mismatch = std::min(slabs_->plane_mismatch(x - di, x - dj, a, 1.0),
-                                   slabs_->plane_mismatch(y - di, y - dj, a, 0.0));
-        else  // the cut lies inside y (j > 0) or inside x (j < 0): that cell's two sources there
-          seam.mismatch = j > 0 ? slabs_->plane_mismatch(y - di, y - dj, a, seam.offset)
-                                : slabs_->plane_mismatch(x - di, x - dj, a, 1.0 + seam.offset);
+        const auto between = [&](const Eigen::Array3i& d1, const Eigen::Array3i& d2, int c, double lo, double hi) {
+          if ((d1 == d2).all()) return 0.0;
+          if (j == 0)
+            return std::min(slabs_->plane_mismatch(x - d1, x - d2, a, 1.0, c, lo, hi),
+                            slabs_->plane_mismatch(y - d1, y - d2, a, 0.0, c, lo, hi));
+          // the cut lies inside y (j > 0) or inside x (j < 0): that cell's two sources there
+          return j > 0 ? slabs_->plane_mismatch(y - d1, y - d2, a, seam.offset, c, lo, hi)
+                       : slabs_->plane_mismatch(x - d1, x - d2, a, 1.0 + seam.offset, c, lo, hi);
+        };
+        // On an output face along another resized axis c, an end cap that cuts its owner (Lattice end
+        // planes inside the cell) replaces the part of the face cells beyond the end plane with the
+        // anchored copy: that part of the seam is between the anchored labels (docs/method.md 2.8).
+        int c = -1;
+        for (int b = 0; b < 3 && c < 0; ++b) {
+          if (b == a || k[b] == 0) continue;
+          const bool low = x[b] == 0 && grid_.end_low[b] > 0, high = x[b] == cells_out[b] - 1 && grid_.end_high[b] < 1;
+          const int anchor = low ? 0 : k[b];
+          if ((low || high) && (di[b] != anchor || dj[b] != anchor)) c = b;
+        }
+        if (c < 0) {
+          seam.mismatch = between(di, dj, -1, 0.0, 1.0);
+        } else {
+          const bool low = x[c] == 0 && grid_.end_low[c] > 0;
+          const double plane = low ? grid_.end_low[c] : grid_.end_high[c];
+          Eigen::Array3i ci = di, cj = dj;  // the labels the caps copy with
+          ci[c] = cj[c] = low ? 0 : k[c];
+          seam.mismatch = std::max(low ? between(ci, cj, c, 0.0, plane) : between(ci, cj, c, plane, 1.0),
+                                   low ? between(di, dj, c, plane, 1.0) : between(di, dj, c, 0.0, plane));
+        }
       }
       rep.max_seam_mismatch = std::max(rep.max_seam_mismatch, seam.mismatch);
       rep.seams.push_back(seam);

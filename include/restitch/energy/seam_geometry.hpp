@@ -177,13 +177,21 @@ class CellSlabs {
   /// cell plane it holds the next cell's samples, or an end cell's overhang (not the whole overhang:
   /// the slab is not widened to infinity along a). Pairs of inside cells are cached (per cell pair,
   /// axis and f), as mismatch is: the live slider asks for the same seams again.
-  double plane_mismatch(const Eigen::Array3i& c1, const Eigen::Array3i& c2, int a, double f) {
+  /// `cut_axis` (another axis, or -1 for none): only the part of the plane with relative canonical
+  /// coordinate in [cut_lo, cut_hi) along it (the seam report's part of a face an end cap does not
+  /// cover, retarget.hpp).
+  double plane_mismatch(const Eigen::Array3i& c1, const Eigen::Array3i& c2, int a, double f, int cut_axis = -1,
+                        double cut_lo = 0.0, double cut_hi = 1.0) {
     if ((c1 == c2).all()) return 0.0;
     const bool in1 = grid_.inside(c1), in2 = grid_.inside(c2);
     if (!in1 && !in2) return 0.0;
+    const auto restrict_cut = [&](double lo[3], double hi[3]) {
+      if (cut_axis >= 0 && cut_axis != a) lo[cut_axis] = cut_lo, hi[cut_axis] = cut_hi;
+    };
     if (!in1 || !in2) {  // an empty cell against samples at the plane: a missing surface
       double lo[3], hi[3];
       for (int b = 0; b < 3; ++b) lo[b] = 0.0, hi[b] = 1.0;
+      restrict_cut(lo, hi);
       lo[a] = f - width_[a];
       hi[a] = f + width_[a];
       Slab s;
@@ -191,13 +199,14 @@ class CellSlabs {
       return s.q.empty() ? 0.0 : empty_mismatch_;
     }
     const int i1 = grid_.index(c1), i2 = grid_.index(c2);
-    const auto key = std::make_tuple(std::min(i1, i2), std::max(i1, i2), a, f);
+    const auto key = std::make_tuple(std::min(i1, i2), std::max(i1, i2), a, f, cut_axis, cut_lo, cut_hi);
     const auto hit = plane_cache_.find(key);
     if (hit != plane_cache_.end()) return hit->second;
     double side[2];
     for (int k = 0; k < 2; ++k) {
       double lo[3], hi[3];
       for (int b = 0; b < 3; ++b) lo[b] = 0.0, hi[b] = 1.0;
+      restrict_cut(lo, hi);
       lo[a] = k == 0 ? f - width_[a] : f;
       hi[a] = k == 0 ? f : f + width_[a];
       Slab s1, s2;
@@ -383,7 +392,7 @@ class CellSlabs {
   std::vector<std::vector<int>> members_;
   std::vector<Slab> slabs_;
   std::unordered_map<std::uint64_t, double> cache_;
-  std::map<std::tuple<int, int, int, double>, double> plane_cache_;  // plane_mismatch of inside cells
+  std::map<std::tuple<int, int, int, double, int, double, double>, double> plane_cache_;  // plane_mismatch of inside cells
   struct SampleTree {  // every finite sample (model units, float) under a k-d tree; built on first use
     MatrixX3f points;
     detail::PointSetAdaptor adaptor{&points};
