@@ -580,9 +580,10 @@ class Retargeter {
         // On an output face along another resized axis c, an end cap that cuts its owner (Lattice end
         // planes inside the cell) replaces the part of the face cells beyond the end plane with the
         // anchored copy: that part of the seam is between the anchored labels (docs/method.md 2.8).
+        // Not on an output one cell long along c: both ends' caps meet there (whole-plane comparison).
         int c = -1;
         for (int b = 0; b < 3 && c < 0; ++b) {
-          if (b == a || k[b] == 0) continue;
+          if (b == a || k[b] == 0 || cells_out[b] < 2) continue;
           const bool low = x[b] == 0 && grid_.end_low[b] > 0, high = x[b] == cells_out[b] - 1 && grid_.end_high[b] < 1;
           const int anchor = low ? 0 : k[b];
           if ((low || high) && (di[b] != anchor || dj[b] != anchor)) c = b;
