@@ -6,8 +6,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <Eigen/QR>
@@ -181,6 +183,65 @@ Mesh door_with_windows(int n, double pitch, const double* shift = nullptr) {
   return m;
 }
 }  // namespace
+
+TEST_CASE("the analysis is bit-identical on any number of threads", "[analysis][threads]") {
+  const auto same = [](const Analysis& a, const Analysis& b) {
+    CHECK(a.dense.points == b.dense.points);
+    REQUIRE(a.descriptors.size() == b.descriptors.size());  // bytes: a feature without support is a NaN row
+    CHECK(std::memcmp(a.descriptors.data(), b.descriptors.data(), sizeof(float) * std::size_t(a.descriptors.size())) ==
+          0);
+    CHECK(a.matches == b.matches);
+    REQUIRE(a.dominant.size() == b.dominant.size());
+    for (std::size_t i = 0; i < a.dominant.size(); ++i) {
+      CHECK(a.dominant[i].offset == b.dominant[i].offset);
+      CHECK(a.dominant[i].significant == b.dominant[i].significant);
+      CHECK(a.dominant[i].overlap == b.dominant[i].overlap);
+      CHECK(a.dominant[i].tests.size() == b.dominant[i].tests.size());
+    }
+    CHECK(a.principal == b.principal);
+    CHECK(a.lattice.A == b.lattice.A);
+    CHECK(a.lattice.origin == b.lattice.origin);
+  };
+  const Result<families::SampleModel> shelf = families::generate("bookshelf");
+  REQUIRE(shelf.ok());
+  const Mesh door = door_with_windows(8, 0.23);  // the part test finds this repeat
+  for (const Mesh* mesh : {&shelf->mesh, &door}) {
+    AnalysisOptions<> one;
+    const Result<Analysis> a = analyze(*mesh, one);
+    REQUIRE(a.ok());
+    REQUIRE(!a->principal.empty());
+    for (int threads : {2, 3}) {
+      AnalysisOptions<> many;
+      many.threads = threads;
+      const Result<Analysis> b = analyze(*mesh, many);
+      REQUIRE(b.ok());
+      same(*a, *b);
+    }
+    AnalysisOptions<ShotDescriptor, ReducedMatcher> reduced;
+    reduced.threads = 2;
+    const Result<Analysis> r = analyze(*mesh, reduced);
+    REQUIRE(r.ok());
+    same(*a, *r);
+  }
+  // Progress comes from the calling thread only, and a cancel stops every stage on two threads.
+  const std::thread::id caller = std::this_thread::get_id();
+  for (const char* stop_at : {"descriptors", "matching", "refinement"}) {
+    bool elsewhere = false;
+    const Progress cancel([&](std::string_view stage, double) {
+      elsewhere = elsewhere || std::this_thread::get_id() != caller;
+      return stage != stop_at;
+    });
+    AnalysisOptions<> two;
+    two.threads = 2;
+    INFO("cancel at " << stop_at);
+    CHECK(analyze(shelf->mesh, two, cancel).status().code() == StatusCode::cancelled);
+    CHECK_FALSE(elsewhere);
+  }
+  AnalysisOptions<> bad;
+  bad.threads = -1;
+  CHECK(analyze(shelf->mesh, bad).status().code() == StatusCode::invalid_argument);
+}
+
 
 TEST_CASE("minority repeat: small windows in a flat door are found on the part that repeats", "[analysis][part]") {
   const Mesh mesh = door_with_windows(8, 0.23);

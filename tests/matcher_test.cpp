@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "restitch/matcher/brute_force.hpp"
@@ -288,5 +289,44 @@ TEST_CASE("matchers check their input and honour cancellation", "[matcher]") {
     CHECK(ReducedMatcher{}.match(one, DescriptorMatrix::Ones(1, 100), 0.1f, out, {}).ok());
     REQUIRE(out.size() == 1);
     CHECK(out[0] == Match{});
+  }
+}
+
+TEST_CASE("the matchers give the same matches on any number of threads", "[matcher][threads]") {
+  // 1300 rows: three row blocks of 512 (the scan's tasks), so workers share unequal blocks.
+  PointSet f;
+  DescriptorMatrix d;
+  random_problem(21, 1300, 40, f, d);
+  PointSet lf;
+  DescriptorMatrix ld;
+  lattice_problem(22, 1300, 40, 1e-7, lf, ld);  // many near ties
+  for (const auto* problem : {&d, &ld}) {
+    const PointSet& pf = problem == &d ? f : lf;
+    const auto reference = naive(pf, *problem, 0.15f);
+    for (int threads : {1, 2, 3, 5}) {
+      BruteForceMatcher bf;
+      bf.threads = threads;
+      ReducedMatcher rm;
+      rm.dimensions = 8;
+      rm.threads = threads;
+      CHECK(count_differences(run(bf, pf, *problem, 0.15f), reference) == 0);
+      CHECK(count_differences(run(rm, pf, *problem, 0.15f), reference) == 0);
+    }
+  }
+  // Cancelled on the calling thread whatever the number of workers, at the first report.
+  for (int threads : {2, 4}) {
+    BruteForceMatcher bf;
+    bf.threads = threads;
+    int reports = 0;
+    bool elsewhere = false;  // a report from a thread other than the caller's
+    const std::thread::id caller = std::this_thread::get_id();
+    std::vector<Match> out;
+    const restitch::Progress stop([&](std::string_view, double) {
+      elsewhere = elsewhere || std::this_thread::get_id() != caller;
+      return ++reports < 2;
+    });
+    CHECK(bf.match(f, d, 0.15f, out, stop).code() == restitch::StatusCode::cancelled);
+    CHECK(reports == 2);
+    CHECK_FALSE(elsewhere);
   }
 }

@@ -3,9 +3,14 @@
 #include "restitch/runtime.hpp"
 
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <atomic>
+#include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "restitch/detail/parallel.hpp"
 #include "restitch/families/families.hpp"
 
 using restitch::Analysis;
@@ -176,4 +181,48 @@ TEST_CASE("runtime: AnyRetargeter gives what Retargeter<LabelSpace> gives", "[ru
   tiny.max_problem_size = 4;
   AnyRetargeter limited(small_mesh(), a, "lattice", tiny);
   CHECK(limited.retarget(*steps).status().code() == StatusCode::too_large);
+}
+
+TEST_CASE("parallel_tasks runs every task once, reports on the caller, stops on cancel and on a throw",
+          "[threads]") {
+  const std::thread::id caller = std::this_thread::get_id();
+  for (int threads : {0, 1, 2, 3, 8}) {
+    INFO("threads " << threads);
+    for (std::size_t tasks : {std::size_t(0), std::size_t(1), std::size_t(7), std::size_t(100)}) {
+      std::vector<std::atomic<int>> runs(tasks);
+      std::vector<std::size_t> ticks;
+      bool elsewhere = false;
+      const bool finished = restitch::detail::parallel_tasks(
+          threads, tasks, [&](std::size_t t, int) { runs[t].fetch_add(1); },
+          [&](std::size_t done) {
+            elsewhere = elsewhere || std::this_thread::get_id() != caller;
+            ticks.push_back(done);
+            return true;
+          });
+      CHECK(finished);
+      CHECK_FALSE(elsewhere);
+      for (const auto& r : runs) CHECK(r.load() == 1);
+      CHECK(std::is_sorted(ticks.begin(), ticks.end()));
+      for (std::size_t d : ticks) CHECK((d >= 1 && d <= tasks));
+      if (tasks > 0) CHECK((!ticks.empty() && ticks.back() == tasks));  // the last tick says all done
+    }
+    // A cancel at the first tick stops the loop and the call says so, whoever ran the tasks (on one
+    // thread, right after the first task).
+    std::atomic<int> ran{0};
+    CHECK_FALSE(restitch::detail::parallel_tasks(
+        threads, 10000, [&](std::size_t, int) { ran.fetch_add(1); }, [](std::size_t) { return false; }));
+    if (restitch::resolve_threads(threads) == 1) CHECK(ran.load() == 1);
+    // A task's exception reaches the caller after every worker stopped.
+    CHECK_THROWS_AS(restitch::detail::parallel_tasks(
+                        threads, 50,
+                        [](std::size_t t, int) {
+                          if (t == 3) throw std::runtime_error("task 3");
+                        },
+                        [](std::size_t) { return true; }),
+                    std::runtime_error);
+  }
+#if !(defined(__EMSCRIPTEN__) && !defined(__EMSCRIPTEN_PTHREADS__))
+  CHECK(restitch::resolve_threads(3) == 3);
+#endif
+  CHECK(restitch::resolve_threads(0) >= 1);
 }

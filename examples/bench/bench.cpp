@@ -2,7 +2,9 @@
 //
 //   bench [--quick] [--json FILE] [--models DIR] [--only SECTION]   (default FILE: bench.json)
 //
-// 1. analysis: time per stage on the samples at growing sizes (~2k to ~200k triangles)
+// 1. analysis: time per stage on the samples at growing sizes (~2k to ~1M triangles; --quick: to
+//    ~20k), on one thread and on every hardware thread, peak memory, the growth exponent, and
+//    (unless --quick) the real models of --models DIR
 // 2. shot: SHOT points per second on 3000 points with ~74 neighbours each
 // 3. comparison: the paper's Fig. 1 / Fig. 8: each sample at one target size
 //    (+2 steps along its first principal offset) with lattice labels and with
@@ -26,6 +28,7 @@
 #include <fstream>
 #include <map>
 #include <random>
+#include <sys/resource.h>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -75,33 +78,111 @@ int first_real_axis(const Analysis& a) {
 
 namespace {
 
-// 1. Analysis per stage at growing sizes.
-void bench_analysis(const std::vector<std::size_t>& sizes, nlohmann::json& out) {
-  std::printf("== analysis: ms per stage (defaults: SHOT, brute-force matcher)\n");
-  std::printf("%-15s %8s %8s %9s %9s %9s %9s %9s %9s %9s\n", "sample", "tris", "features", "sampling", "descript",
-              "matching", "histogr", "refine", "lattice", "total");
+// Peak resident memory of this process so far, in MB (getrusage; a running maximum, so each size
+// is run in increasing order and its figure includes everything before it).
+double peak_rss_mb() {
+  struct rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_maxrss) / 1024.0;
+}
+
+// One analysis with `threads` workers; the timings and the total wall-clock time.
+template <class M = BruteForceMatcher>
+Result<Analysis> timed_analysis(const Mesh& mesh, int threads, double& total_ms) {
+  AnalysisOptions<ShotDescriptor, M> options;
+  options.threads = threads;
+  const auto t = clock_type::now();
+  Result<Analysis> a = analyze(mesh, options);
+  total_ms = ms_since(t);
+  return a;
+}
+
+// Least-squares slope of log(ms) against log(triangles): the measured growth exponent.
+double growth_exponent(const std::vector<std::pair<double, double>>& tris_ms) {
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (const auto& [t, ms] : tris_ms) {
+    const double x = std::log(t), y = std::log(ms);
+    n += 1, sx += x, sy += y, sxx += x * x, sxy += x * y;
+  }
+  return n >= 2 ? (n * sxy - sx * sy) / (n * sxx - sx * sx) : NAN;
+}
+
+// 1. Analysis per stage at growing sizes, on one thread and on every hardware thread; the growth
+// exponent; the real models of --models DIR.
+void bench_analysis(const std::vector<std::size_t>& sizes, const std::string& models, bool quick,
+                    nlohmann::json& out) {
+  const int all = resolve_threads(0);
+  std::printf("== analysis: ms per stage on 1 thread (defaults: SHOT, brute-force matcher), total on %d threads\n",
+              all);
+  std::printf("%-15s %8s %8s %9s %9s %9s %9s %9s %9s %9s %9s %7s %8s\n", "sample", "tris", "features", "sampling",
+              "descript", "matching", "histogr", "refine", "lattice", "total", "total/N", "speedup", "peak MB");
   for (const std::string& family : {std::string("bookshelf"), std::string("fence")}) {
+    std::vector<std::pair<double, double>> growth;
     for (std::size_t target : sizes) {
       families::SampleModel s = sample_near(family, target);
-      const auto t = clock_type::now();
-      auto a = analyze(s.mesh);
-      const double total = ms_since(t);
+      double total = 0, total_all = 0;
+      auto a = timed_analysis(s.mesh, 1, total);
       if (!a) {
         std::printf("%s: %s\n", family.c_str(), a.status().message().c_str());
         continue;
       }
+      auto b = timed_analysis(s.mesh, all, total_all);
+      const bool same = b && b->matches == a->matches && b->principal == a->principal;
       auto ms = [&](const char* k) { return a->timings_ms.count(k) ? a->timings_ms.at(k) : 0.0; };
-      std::printf("%-15s %8zu %8lld %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f\n", family.c_str(),
+      const double peak = peak_rss_mb();
+      std::printf("%-15s %8zu %8lld %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %7.2f %8.0f%s\n", family.c_str(),
                   s.mesh.triangle_count(), (long long)a->features.points.rows(), ms("sampling"), ms("descriptors"),
-                  ms("matching"), ms("histogram"), ms("refinement"), ms("lattice"), total);
+                  ms("matching"), ms("histogram"), ms("refinement"), ms("lattice"), total, total_all,
+                  total / total_all, peak, same ? "" : "  (RESULTS DIFFER)");
+      growth.emplace_back(double(s.mesh.triangle_count()), total);
       out["analysis"].push_back({{"sample", family},
                                  {"triangles", s.mesh.triangle_count()},
                                  {"features", a->features.points.rows()},
                                  {"dense", a->dense.points.rows()},
                                  {"timings_ms", a->timings_ms},
                                  {"total_ms", total},
+                                 {"threads", all},
+                                 {"total_ms_threads", total_all},
+                                 {"same_result_threads", same},
+                                 {"peak_rss_mb", peak},
                                  {"principal", a->principal.size()}});
     }
+    const double e = growth_exponent(growth);
+    std::printf("%-15s growth exponent (1 thread, %.0f to %.0f triangles): %.2f\n", family.c_str(),
+                growth.empty() ? 0.0 : growth.front().first, growth.empty() ? 0.0 : growth.back().first, e);
+    out["analysis_growth"][family] = e;
+  }
+  if (quick) return;
+  std::printf("\n== analysis of the real models in %s (ms; 1 thread, %d threads; matching with the reduced matcher)\n",
+              models.c_str(), all);
+  std::printf("%-36s %8s %9s %9s %7s %9s %9s\n", "model", "tris", "1 thread", "N threads", "speedup", "matching",
+              "reduced");
+  std::vector<std::filesystem::path> files;
+  if (std::filesystem::is_directory(models))
+    for (const auto& e : std::filesystem::directory_iterator(models))
+      if (e.path().extension() == ".glb") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  for (const auto& f : files) {
+    auto mesh = load_gltf(f.string());
+    if (!mesh) continue;
+    double one = 0, many = 0, red = 0;
+    auto a = timed_analysis(*mesh, 1, one);
+    auto b = timed_analysis(*mesh, all, many);
+    auto r = timed_analysis<ReducedMatcher>(*mesh, 1, red);
+    if (!a || !b || !r) continue;
+    const bool same = b->matches == a->matches && r->matches == a->matches && b->principal == a->principal;
+    const double match_ms = a->timings_ms.count("matching") ? a->timings_ms.at("matching") : 0.0;
+    const double red_ms = r->timings_ms.count("matching") ? r->timings_ms.at("matching") : 0.0;
+    std::printf("%-36s %8zu %9.0f %9.0f %7.2f %9.0f %9.0f%s\n", f.filename().string().c_str(), mesh->triangle_count(),
+                one, many, one / many, match_ms, red_ms, same ? "" : "  (RESULTS DIFFER)");
+    out["analysis_models"].push_back({{"model", f.filename().string()},
+                                      {"triangles", mesh->triangle_count()},
+                                      {"total_ms", one},
+                                      {"threads", all},
+                                      {"total_ms_threads", many},
+                                      {"matching_ms", match_ms},
+                                      {"matching_ms_reduced", red_ms},
+                                      {"same_result", same}});
   }
 }
 
@@ -396,7 +477,8 @@ int main(int argc, char** argv) {
   const std::vector<std::string> families = {"bookshelf", "facade", "facade_sheared", "fence", "pin_header"};
   const std::vector<std::size_t> sizes =
       quick ? std::vector<std::size_t>{0, 20000} : std::vector<std::size_t>{0, 20000, 50000, 200000};
-  if (run("analysis")) bench_analysis(sizes, out);
+  if (run("analysis"))
+    bench_analysis(quick ? sizes : std::vector<std::size_t>{0, 20000, 50000, 200000, 1000000}, models, quick, out);
   if (run("shot")) bench_shot(out);
   if (run("comparison")) bench_label_spaces(families, out);
   if (run("scaling")) bench_scaling_labels(quick, out);

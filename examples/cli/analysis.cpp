@@ -19,7 +19,8 @@ Result<Analysis> load_and_analyze(const std::string& input, const PolicyNames& p
     for (const std::string& w : report.warnings) std::fprintf(stderr, "restitch: warning: %s\n", w.c_str());
   mesh = std::move(*loaded);
   Result<Analysis> a =
-      analyze_named(mesh, policies.descriptor, policies.matcher, policies.detector, terminal_progress());
+      analyze_named(mesh, policies.descriptor, policies.matcher, policies.detector, terminal_progress(),
+                    policies.threads);
   if (!a || policies.offsets.empty()) return a;
   std::vector<Eigen::Vector3d> offsets;
   for (std::size_t i = 0; i + 2 < policies.offsets.size(); i += 3)
@@ -51,6 +52,11 @@ void add_policy_options(CLI::App* cmd, PolicyNames& policies) {
                   "offset detector: histogram (the paper's matched-descriptor offsets) or autocorrelation (peaks of "
                   "the surface's FFT autocorrelation; skips matching)")
       ->check(CLI::IsMember(detector_names()))
+      ->capture_default_str();
+  cmd->add_option("--threads", policies.threads,
+                  "threads for the analysis (descriptors, matching, offset refinement); 0: every hardware thread. "
+                  "The result is the same whatever the number")
+      ->check(CLI::Range(0, 1024))
       ->capture_default_str();
   cmd->add_option("--offsets", policies.offsets,
                   "make these offsets principal, first: X,Y,Z[,X,Y,Z[,X,Y,Z]] in model units (e.g. a candidate "

@@ -49,6 +49,7 @@ struct PolicyNames {
   std::string descriptor = "shot", matcher = "brute_force", detector = "histogram";
   std::vector<double> offsets;  ///< --offsets: x,y,z triples (model units) made principal first
   GltfLimits limits;            ///< --max-vertices, --max-triangles
+  int threads = 0;              ///< --threads: analysis workers (0: every hardware thread)
 };
 
 /// The -o of a model: a path ending in .glb or .gltf (any case); anything else is a command-line mistake

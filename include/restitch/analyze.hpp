@@ -173,9 +173,27 @@ struct AnalysisOptions {
   /// (docs/method.md 1.6.1), on samples `fine_spacing_ratio` times as far apart.
   bool find_short_periods = true;
   double fine_spacing_ratio = 0.5;
+  /// Workers for the descriptors, the matching and the offset refinement (detail/parallel.hpp): 1
+  /// runs on the calling thread alone, 0 on every hardware thread. analyze() gives this number to
+  /// every policy that has a `threads` member (or a `significance.threads`, the shipped detectors),
+  /// overriding theirs. The analysis is bit-identical whatever the number.
+  int threads = 1;
 };
 
 namespace detail {
+
+/// Sets a policy's worker count where it has one (AnalysisOptions::threads); a policy without does
+/// what it always does.
+template <class P>
+auto set_policy_threads(P& p, int n, int) -> decltype(p.threads = n, void()) {
+  p.threads = n;
+}
+template <class P>
+auto set_policy_threads(P& p, int n, long) -> decltype(p.significance.threads = n, void()) {
+  p.significance.threads = n;
+}
+template <class P>
+void set_policy_threads(P&, int, ...) {}
 
 /// Runs one named stage of the analysis: reports progress 0 and 1 around
 /// `body` (a cancel at either gives StatusCode::cancelled naming the stage)
@@ -229,6 +247,8 @@ Status check_analysis_options(const AnalysisOptions<D, M, Det>& options) {
     return error(StatusCode::invalid_argument, "the dummy direction length must be a positive finite length");
   if (!(options.fine_spacing_ratio > 0 && options.fine_spacing_ratio <= 1))
     return error(StatusCode::invalid_argument, "the fine spacing ratio must be in (0, 1]");
+  if (options.threads < 0 || options.threads > 1024)
+    return error(StatusCode::invalid_argument, "the number of threads must be in [0, 1024] (0: every hardware thread)");
   return {};
 }
 
@@ -294,6 +314,7 @@ Status find_short_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
   const double coarse_min = options.fundamental.min_length * h, fine_min = options.fundamental.min_length * hf;
   SignificanceOptions tests;
   tests.icp.spacing = h;
+  tests.threads = options.threads;
   std::unique_ptr<SelfAligner> coarse;  // built when some offset has a short divisor
   std::vector<std::pair<std::size_t, std::vector<int>>> todo;  // (dominant, divisors that pass the screen)
   const std::vector<Eigen::Vector3d> basis = significant_basis(a.dominant, tests.icp.overlap_radius());
@@ -475,14 +496,18 @@ Result<Analysis> analyze(const Mesh& mesh, const AnalysisOptions<D, M, Det>& opt
     RESTITCH_TRY(detail::analysis_stage("sampling", progress, timings,
                                         [&] { return detail::sample_features(mesh, options, progress, a, anchors); }));
     RESTITCH_TRY(detail::analysis_stage("descriptors", progress, timings, [&]() -> Status {
-      RESTITCH_TRY(options.descriptor.compute(a.dense, a.features, a.descriptors, progress));
+      D descriptor = options.descriptor;
+      detail::set_policy_threads(descriptor, options.threads, 0);
+      RESTITCH_TRY(descriptor.compute(a.dense, a.features, a.descriptors, progress));
       if (a.descriptors.rows() != a.features.size())
         return error(StatusCode::internal, "the descriptor policy returned a wrong number of rows");
       return {};
     }));
     if constexpr (detector_uses_matches_v<Det>)  // a detector that ignores matches (autocorrelation) skips the stage
       RESTITCH_TRY(detail::analysis_stage("matching", progress, timings, [&]() -> Status {
-        RESTITCH_TRY(options.matcher.match(a.features, a.descriptors, options.tau, a.matches, progress));
+        M matcher = options.matcher;
+        detail::set_policy_threads(matcher, options.threads, 0);
+        RESTITCH_TRY(matcher.match(a.features, a.descriptors, options.tau, a.matches, progress));
         if (a.matches.size() != std::size_t(a.features.size()))
           return error(StatusCode::internal, "the matcher policy returned a wrong number of matches");
         return {};
@@ -491,7 +516,9 @@ Result<Analysis> analyze(const Mesh& mesh, const AnalysisOptions<D, M, Det>& opt
       OffsetDetection det;
       const OffsetEvidence evidence{a.dense, a.features, a.matches, options.dense_spacing, double(options.tau),
                                     &anchors};
-      RESTITCH_TRY(options.detector.detect(evidence, det, progress));
+      Det detector = options.detector;
+      detail::set_policy_threads(detector, options.threads, 0);
+      RESTITCH_TRY(detector.detect(evidence, det, progress));
       a.dominant = std::move(det.dominant);
       a.sparsity = det.sparsity;
       a.histogram_peaks = det.peaks;

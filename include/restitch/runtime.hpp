@@ -56,30 +56,37 @@ inline Status unknown_name(const char* what, const std::string& name, const std:
   return error(StatusCode::invalid_argument, "unknown " + std::string(what) + " '" + name + "' (known: " + list + ")");
 }
 template <class D, class M, class Det>
-Result<Analysis> analyze_with(const Mesh& mesh, const Progress& progress) {
+Result<Analysis> analyze_with(const Mesh& mesh, const Progress& progress, int threads) {
   AnalysisOptions<D, M, Det> options;
+  options.threads = threads;
   return analyze(mesh, options, progress);
 }
 template <class D, class M>
-Result<Analysis> analyze_detector(const Mesh& mesh, const std::string& detector, const Progress& progress) {
-  if (detector == "histogram") return analyze_with<D, M, HistogramOffsetDetector>(mesh, progress);
-  if (detector == "autocorrelation") return analyze_with<D, M, AutocorrelationOffsetDetector>(mesh, progress);
+Result<Analysis> analyze_detector(const Mesh& mesh, const std::string& detector, const Progress& progress,
+                                  int threads) {
+  if (detector == "histogram") return analyze_with<D, M, HistogramOffsetDetector>(mesh, progress, threads);
+  if (detector == "autocorrelation")
+    return analyze_with<D, M, AutocorrelationOffsetDetector>(mesh, progress, threads);
   return unknown_name("detector", detector, detector_names());
 }
 template <class D>
 Result<Analysis> analyze_matcher(const Mesh& mesh, const std::string& matcher, const std::string& detector,
-                                 const Progress& progress) {
-  if (matcher == "brute_force") return analyze_detector<D, BruteForceMatcher>(mesh, detector, progress);
-  if (matcher == "reduced") return analyze_detector<D, ReducedMatcher>(mesh, detector, progress);
+                                 const Progress& progress, int threads) {
+  if (matcher == "brute_force") return analyze_detector<D, BruteForceMatcher>(mesh, detector, progress, threads);
+  if (matcher == "reduced") return analyze_detector<D, ReducedMatcher>(mesh, detector, progress, threads);
   return unknown_name("matcher", matcher, matcher_names());
 }
 }  // namespace detail
 
-/// analyze() with the descriptor, matcher and offset detector named at run time, default options otherwise.
+/// analyze() with the descriptor, matcher and offset detector named at run time, default options
+/// otherwise; `threads` is AnalysisOptions::threads (1: the calling thread alone; 0: every core).
 inline Result<Analysis> analyze_named(const Mesh& mesh, const std::string& descriptor, const std::string& matcher,
-                                      const std::string& detector, const Progress& progress = {}) {
-  if (descriptor == "shot") return detail::analyze_matcher<ShotDescriptor>(mesh, matcher, detector, progress);
-  if (descriptor == "fpfh") return detail::analyze_matcher<FpfhDescriptor>(mesh, matcher, detector, progress);
+                                      const std::string& detector, const Progress& progress = {},
+                                      int threads = 1) {
+  if (descriptor == "shot")
+    return detail::analyze_matcher<ShotDescriptor>(mesh, matcher, detector, progress, threads);
+  if (descriptor == "fpfh")
+    return detail::analyze_matcher<FpfhDescriptor>(mesh, matcher, detector, progress, threads);
   return detail::unknown_name("descriptor", descriptor, descriptor_names());
 }
 

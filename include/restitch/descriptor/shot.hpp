@@ -54,6 +54,7 @@
 
 #include "restitch/descriptor/descriptor.hpp"
 #include "restitch/descriptor/neighbourhood.hpp"
+#include "restitch/detail/parallel.hpp"
 
 namespace restitch {
 
@@ -83,6 +84,9 @@ inline int shot_azimuth_sector(double x, double y) {
 struct ShotDescriptor {
   /// Support radius, in the units of the points. Positive and finite.
   float radius = 0.2f;
+  /// Workers (detail/parallel.hpp; 0: every hardware thread). The descriptors are the same whatever
+  /// the number.
+  int threads = 1;
 
   /// 32 volumes x 11 cosine slots.
   int dimension() const { return 352; }
@@ -117,24 +121,31 @@ struct ShotDescriptor {
         delta[j] = b - k;
       }
 
-      std::vector<detail::Neighbour> nn;
-      nn.reserve(256);
-      for (Eigen::Index i = 0; i < nq; ++i) {
-        if (i % detail::descriptor_progress_stride == 0 && i > 0 &&
-            !progress.report("descriptors", static_cast<double>(i) / static_cast<double>(nq))) {
-          return error(StatusCode::cancelled, "SHOT: cancelled");
+      // Each query writes its own row: chunks of queries are tasks (detail/parallel.hpp).
+      const Eigen::Index chunk = detail::descriptor_progress_stride;
+      const std::size_t chunks = std::size_t((nq + chunk - 1) / chunk);
+      const int workers = int(std::min<std::size_t>(std::size_t(std::max(1, resolve_threads(threads))), chunks));
+      std::vector<std::vector<detail::Neighbour>> neighbours(std::size_t(std::max(1, workers)));
+      const auto describe = [&](std::size_t task, int worker) {
+        std::vector<detail::Neighbour>& nn = neighbours[std::size_t(worker)];
+        const Eigen::Index end = std::min(nq, Eigen::Index(task + 1) * chunk);
+        for (Eigen::Index i = Eigen::Index(task) * chunk; i < end; ++i) {
+          float* h = out.row(i).data();
+          const float* q = queries.points.row(i).data();
+          search.find(q, nn);  // empty for a non-finite query
+          if (nn.size() < 5) {
+            std::fill(h, h + 352, std::numeric_limits<float>::quiet_NaN());
+            continue;
+          }
+          std::fill(h, h + 352, 0.0f);
+          accumulate(support, q, nn, slot.data(), delta.data(), r, h);
+          normalise(h);
         }
-        float* h = out.row(i).data();
-        const float* q = queries.points.row(i).data();
-        search.find(q, nn);  // empty for a non-finite query
-        if (nn.size() < 5) {
-          std::fill(h, h + 352, std::numeric_limits<float>::quiet_NaN());
-          continue;
-        }
-        std::fill(h, h + 352, 0.0f);
-        accumulate(support, q, nn, slot.data(), delta.data(), r, h);
-        normalise(h);
-      }
+      };
+      const auto tick = [&](std::size_t done) {
+        return done >= chunks || progress.report("descriptors", double(done) / double(chunks));
+      };
+      if (!detail::parallel_tasks(workers, chunks, describe, tick)) return error(StatusCode::cancelled, "SHOT: cancelled");
       if (!progress.report("descriptors", 1.0)) return error(StatusCode::cancelled, "SHOT: cancelled");
       return Status();
     });

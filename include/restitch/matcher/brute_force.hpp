@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "restitch/descriptor/descriptor.hpp"
+#include "restitch/detail/parallel.hpp"
 #include "restitch/matcher/matcher.hpp"
 #include "restitch/progress.hpp"
 #include "restitch/status.hpp"
@@ -147,21 +148,28 @@ inline float float_at_least(double x) {
 
 /// Visits every admissible ordered pair (i, j), i != j, of the rows of `emb`
 /// whose float squared distance d2 = |e_i|^2 + |e_j|^2 - 2 e_i.e_j satisfies
-/// d2 <= threshold[i], calling offer(i, j, d2). The visitor may lower
-/// threshold[i] at any time. Blocks J >= I only, so each product serves both
-/// (i, j) and (j, i). Reports progress in [lo, hi] of "matching".
-template <class Offer>
-Status scan_pairs(const MatchProblem& p, const RowMatrixXf& emb, std::vector<float>& threshold, Offer&& offer,
+/// d2 <= state.threshold[i], calling state.offer(i, j, d2). Blocks J >= I only,
+/// so each product serves both (i, j) and (j, i). One state per worker
+/// (detail/parallel.hpp; `states.size()` workers, each row block I a task):
+/// a state has `std::vector<float> threshold` (one per row, which its offer
+/// may lower at any time) and `offer`; worker w only touches states[w], so
+/// the caller merges them after (each pair is offered to exactly one state;
+/// the float d2 of a pair does not depend on the worker). Reports progress in
+/// [lo, hi] of "matching".
+template <class State>
+Status scan_pairs(const MatchProblem& p, const RowMatrixXf& emb, std::vector<State>& states,
                   const Progress& progress, double lo, double hi) {
   const Eigen::Index n = emb.rows();
   const Eigen::Index block = 512;
   const Eigen::VectorXf sq = emb.rowwise().squaredNorm();
-  RowMatrixXf g;
-  const double nb = std::ceil(double(n) / double(block));
-  const double total_blocks = nb * (nb + 1) / 2;
-  double done = 0;
-  for (Eigen::Index I = 0; I < n; I += block) {
-    const Eigen::Index bi = std::min(block, n - I);
+  std::vector<RowMatrixXf> products(states.size());
+  const std::size_t blocks = std::size_t((n + block - 1) / block);
+  const double total_blocks = double(blocks) * double(blocks + 1) / 2;
+  const auto row_block = [&](std::size_t task, int worker) {
+    State& state = states[std::size_t(worker)];
+    RowMatrixXf& g = products[std::size_t(worker)];
+    float* threshold = state.threshold.data();
+    const Eigen::Index I = Eigen::Index(task) * block, bi = std::min(block, n - I);
     for (Eigen::Index J = I; J < n; J += block) {
       const Eigen::Index bj = std::min(block, n - J);
       g.noalias() = emb.middleRows(I, bi) * emb.middleRows(J, bj).transpose();
@@ -170,22 +178,26 @@ Status scan_pairs(const MatchProblem& p, const RowMatrixXf& emb, std::vector<flo
         const float si = sq[I + a];
         const float* row = g.row(a).data();
         const float* sqj = sq.data() + J;
-        float* thj = threshold.data() + J;
+        float* thj = threshold + J;
         for (Eigen::Index b = (I == J ? a + 1 : 0); b < bj; ++b) {
           const float d2 = si + sqj[b] - 2.0f * row[b];
           const bool fi = d2 <= threshold[i], fj = d2 <= thj[b];
           if (!(fi || fj)) continue;
           const std::size_t j = static_cast<std::size_t>(J + b);
           if (!p.admissible(i, j)) continue;
-          if (fi) offer(i, j, d2);
-          if (fj) offer(j, i, d2);
+          if (fi) state.offer(i, j, d2);
+          if (fj) state.offer(j, i, d2);
         }
       }
-      done += 1;
     }
-    if (!progress.report("matching", lo + (hi - lo) * done / total_blocks))
-      return error(StatusCode::cancelled, "cancelled while matching features");
-  }
+  };
+  // Blocks done after the first `t` row blocks: row block k holds blocks - k blocks.
+  const auto tick = [&](std::size_t t) {
+    const double done = double(t) * double(blocks) - double(t) * double(t - 1) / 2;
+    return progress.report("matching", lo + (hi - lo) * std::min(1.0, done / total_blocks));
+  };
+  if (!parallel_tasks(int(states.size()), blocks, row_block, tick))
+    return error(StatusCode::cancelled, "cancelled while matching features");
   return {};
 }
 
@@ -194,6 +206,9 @@ Status scan_pairs(const MatchProblem& p, const RowMatrixXf& emb, std::vector<flo
 /// The exact reference matcher (see the top of this header and matcher.hpp).
 struct BruteForceMatcher {
   TieRule ties;
+  /// Workers for the pair scan (detail/parallel.hpp; 0: every hardware thread). The matches are
+  /// the same whatever the number.
+  int threads = 1;
 
   Status match(const PointSet& features, const DescriptorMatrix& descriptors, float tau, std::vector<Match>& out,
                const Progress& progress = {}) const {
@@ -216,30 +231,47 @@ struct BruteForceMatcher {
         return detail::float_at_least(t * t + err);
       };
 
-      std::vector<float> threshold(n, std::numeric_limits<float>::infinity());
-      std::vector<float> best(n, std::numeric_limits<float>::infinity());
-      std::vector<std::vector<std::pair<std::int32_t, float>>> cand(n);
-      std::vector<std::uint32_t> prune_at(n, 32);
-      auto offer = [&](std::size_t i, std::size_t j, float d2) {
-        auto& c = cand[i];
-        c.emplace_back(static_cast<std::int32_t>(j), d2);
-        if (d2 < best[i]) best[i] = d2, threshold[i] = bound(d2);
-        if (c.size() >= prune_at[i]) {
-          const float t = threshold[i];
-          c.erase(
-              std::remove_if(c.begin(), c.end(), [t](const std::pair<std::int32_t, float>& e) { return e.second > t; }),
-              c.end());
-          prune_at[i] = static_cast<std::uint32_t>(std::max<std::size_t>(32, 2 * c.size()));
+      // One state per worker (scan_pairs): its best float distance, threshold and candidates per feature.
+      using Bound = decltype(bound);
+      struct State {
+        const Bound* bound;
+        std::vector<float> threshold, best;
+        std::vector<std::vector<std::pair<std::int32_t, float>>> cand;
+        std::vector<std::uint32_t> prune_at;
+        State(const Bound& b, std::size_t rows)
+            : bound(&b),
+              threshold(rows, std::numeric_limits<float>::infinity()),
+              best(rows, std::numeric_limits<float>::infinity()),
+              cand(rows),
+              prune_at(rows, 32) {}
+        void offer(std::size_t i, std::size_t j, float d2) {
+          auto& c = cand[i];
+          c.emplace_back(static_cast<std::int32_t>(j), d2);
+          if (d2 < best[i]) best[i] = d2, threshold[i] = (*bound)(d2);
+          if (c.size() >= prune_at[i]) {
+            const float t = threshold[i];
+            c.erase(std::remove_if(c.begin(), c.end(),
+                                   [t](const std::pair<std::int32_t, float>& e) { return e.second > t; }),
+                    c.end());
+            prune_at[i] = static_cast<std::uint32_t>(std::max<std::size_t>(32, 2 * c.size()));
+          }
         }
       };
-      RESTITCH_TRY(detail::scan_pairs(p, p.descriptor, threshold, offer, progress, 0.0, 0.95));
+      std::vector<State> states(std::size_t(std::max(1, resolve_threads(threads))), State(bound, n));
+      RESTITCH_TRY(detail::scan_pairs(p, p.descriptor, states, progress, 0.0, 0.95));
 
+      // Merged: the threshold of the best float distance over all workers. A worker pruned only
+      // above its own threshold, never below this one, so every candidate under it is still held.
       std::vector<std::int32_t> ids;
       std::vector<double> scratch;
       for (std::size_t i = 0; i < n; ++i) {
+        float b = std::numeric_limits<float>::infinity();
+        for (const State& st : states) b = std::min(b, st.best[i]);
+        const float t = b < std::numeric_limits<float>::infinity() ? bound(b) : b;
         ids.clear();
-        for (const auto& e : cand[i])
-          if (e.second <= threshold[i]) ids.push_back(e.first);
+        for (const State& st : states)
+          for (const auto& e : st.cand[i])
+            if (e.second <= t) ids.push_back(e.first);
         detail::choose_match(p, i, ids, ties, scratch, out);
       }
       if (!progress.report("matching", 1.0)) return error(StatusCode::cancelled, "cancelled while matching features");

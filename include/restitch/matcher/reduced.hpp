@@ -56,13 +56,16 @@ struct ReducedMatcher {
   int dimensions = 32;           ///< principal directions kept (>= 1)
   int seeds = 4;                 ///< pass-1 nearest lower bounds per feature (>= 1)
   Eigen::Index pca_rows = 4096;  ///< rows used to estimate the covariance (>= 1)
+  /// Workers for the pair scans (detail/parallel.hpp; 0: every hardware thread). The matches are
+  /// the same whatever the number.
+  int threads = 1;
 
   Status match(const PointSet& features, const DescriptorMatrix& descriptors, float tau, std::vector<Match>& out,
                const Progress& progress = {}) const {
     return detail::guarded("ReducedMatcher::match", [&]() -> Status {
       RESTITCH_ASSERT(dimensions >= 1 && seeds >= 1 && pca_rows >= 1, "ReducedMatcher parameters must be >= 1");
       const Eigen::Index dim = descriptors.cols();
-      if (dim <= dimensions + 1) return BruteForceMatcher{ties}.match(features, descriptors, tau, out, progress);
+      if (dim <= dimensions + 1) return BruteForceMatcher{ties, threads}.match(features, descriptors, tau, out, progress);
       detail::MatchProblem p;
       RESTITCH_TRY(detail::prepare_matching(features, descriptors, tau, out, p));
       if (!progress.report("matching", 0.0)) return error(StatusCode::cancelled, "cancelled while matching features");
@@ -108,47 +111,67 @@ struct ReducedMatcher {
       const double err = detail::float_distance_error(dimensions + 1, max_sq) + 16.0 * 0x1.0p-24 * max_sq +
                          8.0 * delta * std::sqrt(max_sq) + 4.0 * delta * delta + 1e-10 * max_norm_sq;
 
-      // Pass 1: the `seeds` smallest lower bounds per feature (max-heaps).
+      // Pass 1: the `seeds` smallest lower bounds per feature (max-heaps), one set per worker.
       const std::size_t k_seeds = static_cast<std::size_t>(seeds);
-      std::vector<float> threshold(n, std::numeric_limits<float>::infinity());
-      std::vector<std::pair<float, std::int32_t>> heap(n * k_seeds);
-      std::vector<std::uint32_t> heap_size(n, 0);
-      auto offer_seed = [&](std::size_t i, std::size_t j, float d2) {
-        auto* h = heap.data() + i * k_seeds;
-        std::uint32_t& s = heap_size[i];
-        if (s < k_seeds) {
-          h[s++] = {d2, static_cast<std::int32_t>(j)};
-          std::push_heap(h, h + s);
-        } else {
-          std::pop_heap(h, h + s);
-          h[s - 1] = {d2, static_cast<std::int32_t>(j)};
-          std::push_heap(h, h + s);
+      struct SeedState {
+        std::size_t k;
+        std::vector<float> threshold;
+        std::vector<std::pair<float, std::int32_t>> heap;
+        std::vector<std::uint32_t> heap_size;
+        SeedState(std::size_t rows, std::size_t k_)
+            : k(k_), threshold(rows, std::numeric_limits<float>::infinity()), heap(rows * k_), heap_size(rows, 0) {}
+        void offer(std::size_t i, std::size_t j, float d2) {
+          auto* h = heap.data() + i * k;
+          std::uint32_t& s = heap_size[i];
+          if (s < k) {
+            h[s++] = {d2, static_cast<std::int32_t>(j)};
+            std::push_heap(h, h + s);
+          } else {
+            std::pop_heap(h, h + s);
+            h[s - 1] = {d2, static_cast<std::int32_t>(j)};
+            std::push_heap(h, h + s);
+          }
+          if (s == k) threshold[i] = h[0].first;
         }
-        if (s == k_seeds) threshold[i] = h[0].first;
       };
-      RESTITCH_TRY(detail::scan_pairs(p, emb, threshold, offer_seed, progress, 0.05, 0.45));
-
-      // Upper bound of d* from the seeds' exact distances, then the pass-2 threshold.
-      for (std::size_t i = 0; i < n; ++i) {
-        double u = std::numeric_limits<double>::infinity();
-        for (std::uint32_t k = 0; k < heap_size[i]; ++k)
-          u = std::min(u, detail::exact_squared_distance(p.descriptor.row(static_cast<Eigen::Index>(i)).data(),
-                                                         p.descriptor.row(heap[i * k_seeds + k].second).data(), dim));
-        if (heap_size[i] == 0) {
-          threshold[i] = -std::numeric_limits<float>::infinity();  // no admissible target at all
-          continue;
+      const std::size_t workers = std::size_t(std::max(1, resolve_threads(threads)));
+      std::vector<float> threshold(n);
+      {
+        std::vector<SeedState> states(workers, SeedState(n, k_seeds));
+        RESTITCH_TRY(detail::scan_pairs(p, emb, states, progress, 0.05, 0.45));
+        // Upper bound of d* from every worker's seeds' exact distances, then the pass-2 threshold.
+        for (std::size_t i = 0; i < n; ++i) {
+          double u = std::numeric_limits<double>::infinity();
+          bool any = false;
+          for (const SeedState& st : states)
+            for (std::uint32_t k = 0; k < st.heap_size[i]; ++k, any = true)
+              u = std::min(u, detail::exact_squared_distance(p.descriptor.row(static_cast<Eigen::Index>(i)).data(),
+                                                             p.descriptor.row(st.heap[i * k_seeds + k].second).data(),
+                                                             dim));
+          if (!any) {
+            threshold[i] = -std::numeric_limits<float>::infinity();  // no admissible target at all
+            continue;
+          }
+          const double t = ties.upper(std::sqrt(u));
+          threshold[i] = detail::float_at_least(t * t + err);
         }
-        const double t = ties.upper(std::sqrt(u));
-        threshold[i] = detail::float_at_least(t * t + err);
       }
-      heap.clear(), heap.shrink_to_fit();
 
-      // Pass 2: all candidates under the threshold; exact re-ranking.
-      std::vector<std::vector<std::int32_t>> cand(n);
-      auto offer = [&](std::size_t i, std::size_t j, float) { cand[i].push_back(static_cast<std::int32_t>(j)); };
-      RESTITCH_TRY(detail::scan_pairs(p, emb, threshold, offer, progress, 0.45, 0.95));
+      // Pass 2: all candidates under the threshold (fixed), one list per worker; exact re-ranking.
+      struct CandidateState {
+        std::vector<float> threshold;
+        std::vector<std::vector<std::int32_t>> cand;
+        void offer(std::size_t i, std::size_t j, float) { cand[i].push_back(static_cast<std::int32_t>(j)); }
+      };
+      std::vector<CandidateState> states(workers, CandidateState{threshold, std::vector<std::vector<std::int32_t>>(n)});
+      RESTITCH_TRY(detail::scan_pairs(p, emb, states, progress, 0.45, 0.95));
       std::vector<double> scratch;
-      for (std::size_t i = 0; i < n; ++i) detail::choose_match(p, i, cand[i], ties, scratch, out);
+      std::vector<std::int32_t> ids;
+      for (std::size_t i = 0; i < n; ++i) {
+        ids.clear();
+        for (const CandidateState& st : states) ids.insert(ids.end(), st.cand[i].begin(), st.cand[i].end());
+        detail::choose_match(p, i, ids, ties, scratch, out);
+      }
       if (!progress.report("matching", 1.0)) return error(StatusCode::cancelled, "cancelled while matching features");
       return {};
     });

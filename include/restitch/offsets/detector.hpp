@@ -101,6 +101,7 @@
 #include <vector>
 
 #include "restitch/descriptor/descriptor.hpp"
+#include "restitch/detail/parallel.hpp"
 #include "restitch/matcher/matcher.hpp"
 #include "restitch/offsets/histogram.hpp"
 #include "restitch/offsets/part.hpp"
@@ -241,6 +242,9 @@ struct SignificanceOptions {
   bool axis_contrast = false;
   /// The same tests on the part that repeats, for candidates with seeds (offsets/part.hpp).
   PartOptions part{};
+  /// Workers for the refinement and the tests (detail/parallel.hpp; 0: every hardware thread). The
+  /// dominant offsets are the same whatever the number.
+  int threads = 1;
 
   bool valid() const {
     return min_overlap >= 0 && min_overlap <= 1 && std::isfinite(min_contrast) && min_repeat_ratio >= 0 &&
@@ -302,15 +306,30 @@ inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<Offset
   options.spacing = ev.dense_spacing;
   const SelfAligner aligner(ev.dense, options, ev.anchors);
   const double radius = options.overlap_radius();
-  std::vector<std::pair<std::size_t, std::size_t>> failed;  // (index in out, index in todo)
+  const int threads = std::max(1, resolve_threads(tests.threads));
+  // Every candidate's ICP (independent: tasks on the workers), then, in order, the duplicates out,
+  // then the tests of those kept (independent again), then the part test in order.
+  std::vector<RefinedOffset> refined(todo.size());
+  const auto tick = [&](double from, std::size_t done, std::size_t of) {
+    return progress.report("refinement", from + 0.5 * double(done) / double(of + 1));
+  };
+  if (!detail::parallel_tasks(
+          threads, todo.size(), [&](std::size_t k, int) { refined[k] = aligner.refine(todo[k].start); },
+          [&](std::size_t done) { return tick(0, done, todo.size()); }))
+    return error(StatusCode::cancelled, "cancelled during offset refinement");
+  std::vector<std::size_t> kept;  // indices into todo
   for (std::size_t k = 0; k < todo.size(); ++k) {
-    if (!progress.report("refinement", double(k) / double(todo.size())))
-      return error(StatusCode::cancelled, "cancelled during offset refinement");
-    const RefinedOffset r = aligner.refine(todo[k].start);
+    const RefinedOffset& r = refined[k];
     bool duplicate = r.offset.norm() <= ev.tau;  // slid onto the trivial self-match t = 0
     for (const DominantOffset& d : out) duplicate = duplicate || (d.offset - r.offset).norm() <= radius;
-    if (duplicate) continue;
-    DominantOffset d;
+    for (const std::size_t e : kept) duplicate = duplicate || (refined[e].offset - r.offset).norm() <= radius;
+    if (!duplicate) kept.push_back(k);
+  }
+  std::vector<DominantOffset> tested(kept.size());
+  const auto test_one = [&](std::size_t task, int) {
+    const std::size_t k = kept[task];
+    const RefinedOffset& r = refined[k];
+    DominantOffset& d = tested[task];
     d.offset = r.offset;
     d.bin_center = todo[k].start;
     d.votes = todo[k].votes;
@@ -350,8 +369,14 @@ inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<Offset
       ok = test("axis_contrast_double", d.axis_contrast_double, tests.min_contrast);
     }
     d.significant = ok;
-    if (!ok) failed.emplace_back(out.size(), k);  // for the part test below
-    out.push_back(d);
+  };
+  if (!detail::parallel_tasks(threads, kept.size(), test_one,
+                              [&](std::size_t done) { return tick(0.5, done, kept.size()); }))
+    return error(StatusCode::cancelled, "cancelled during offset refinement");
+  std::vector<std::pair<std::size_t, std::size_t>> failed;  // (index in out, index in todo)
+  for (std::size_t e = 0; e < kept.size(); ++e) {
+    if (!tested[e].significant) failed.emplace_back(out.size(), kept[e]);  // for the part test below
+    out.push_back(std::move(tested[e]));
   }
   detail::significant_on_part(aligner, ev, todo, tests, failed, out);  // offsets/part.hpp
   return {};
