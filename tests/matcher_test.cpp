@@ -85,6 +85,15 @@ std::vector<Match> run(const M& m, const PointSet& f, const DescriptorMatrix& d,
   return out;
 }
 
+// The reduced matcher on its own path at any size (no brute-force fallback), with `dims` directions.
+ReducedMatcher reduced(int dims = 32) {
+  ReducedMatcher m;
+  m.dimensions = dims;
+  m.min_rows = 0;
+  m.max_candidate_share = 1;
+  return m;
+}
+
 std::size_t count_differences(const std::vector<Match>& a, const std::vector<Match>& b) {
   std::size_t k = 0;
   for (std::size_t i = 0; i < a.size(); ++i) k += a[i] != b[i];
@@ -159,7 +168,7 @@ TEST_CASE("tau is strict: a pair exactly tau apart is excluded", "[matcher]") {
   const PointSet f = points_of({{0, 0, 0}, {tau, 0, 0}, {0.5f, 0, 0}});
   DescriptorMatrix d(3, 2);
   d << 1, 0, 1, 0, 0.6f, 0.8f;
-  for (const auto& out : {run(BruteForceMatcher{}, f, d, tau), run(ReducedMatcher{}, f, d, tau), naive(f, d, tau)}) {
+  for (const auto& out : {run(BruteForceMatcher{}, f, d, tau), run(reduced(), f, d, tau), naive(f, d, tau)}) {
     CHECK(out[0].target == 2);
     CHECK(out[1].target == 2);
     CHECK(out[2].target == 1);  // equal distances to 0 and 1: the shorter offset (0.35 < 0.5) wins
@@ -197,7 +206,7 @@ TEST_CASE("ties go to the shortest offset: a lattice votes for its pitch", "[mat
     for (float tau : {0.05f, 0.15f}) {
       const double expect = tau < 0.1f ? 0.1 : 0.2;  // the shortest admissible multiple of the pitch
       for (const auto& out :
-           {run(BruteForceMatcher{}, f, *desc, tau), run(ReducedMatcher{restitch::TieRule{}, 8}, f, *desc, tau)}) {
+           {run(BruteForceMatcher{}, f, *desc, tau), run(reduced(8), f, *desc, tau)}) {
         for (int i = 0; i < n; ++i) {
           REQUIRE(out[std::size_t(i)].target >= 0);
           const double off = (f.points.row(out[std::size_t(i)].target) - f.points.row(i)).cast<double>().norm();
@@ -219,7 +228,7 @@ TEST_CASE("rows with NaN never match and are never matched", "[matcher]") {
   f.points(30, 1) = NAN;  // ...and a feature without a position
   d(40, 5) = INFINITY;
   for (const auto& out :
-       {run(BruteForceMatcher{}, f, d, 0.15f), run(ReducedMatcher{restitch::TieRule{}, 6}, f, d, 0.15f)}) {
+       {run(BruteForceMatcher{}, f, d, 0.15f), run(reduced(6), f, d, 0.15f)}) {
     for (int bad : {10, 20, 30, 40}) CHECK(out[std::size_t(bad)] == Match{});
     for (const Match& m : out) CHECK((m.target != 10 && m.target != 20 && m.target != 30 && m.target != 40));
     CHECK(count_differences(out, naive(f, d, 0.15f)) == 0);
@@ -234,7 +243,7 @@ TEST_CASE("ReducedMatcher equals BruteForceMatcher on random and lattice data", 
     const auto bf = run(BruteForceMatcher{}, f, d, 0.15f);
     CHECK(count_differences(bf, naive(f, d, 0.15f)) == 0);
     for (int dims : {4, 16})
-      CHECK(count_differences(run(ReducedMatcher{restitch::TieRule{}, dims}, f, d, 0.15f), bf) == 0);
+      CHECK(count_differences(run(reduced(dims), f, d, 0.15f), bf) == 0);
   }
   SECTION("lattice-structured descriptors, float-level noise (ties) and 1e-3 noise") {
     for (double noise : {1e-7, 1e-3}) {
@@ -244,7 +253,7 @@ TEST_CASE("ReducedMatcher equals BruteForceMatcher on random and lattice data", 
       const auto bf = run(BruteForceMatcher{}, f, d, 0.15f);
       CHECK(count_differences(bf, naive(f, d, 0.15f)) == 0);
       for (int dims : {3, 12})
-        CHECK(count_differences(run(ReducedMatcher{restitch::TieRule{}, dims}, f, d, 0.15f), bf) == 0);
+        CHECK(count_differences(run(reduced(dims), f, d, 0.15f), bf) == 0);
       // The votes: most offsets are lattice vectors (multiples of the pitches).
       std::size_t on_lattice = 0;
       for (std::size_t i = 0; i < bf.size(); ++i) {
@@ -268,7 +277,7 @@ TEST_CASE("matchers check their input and honour cancellation", "[matcher]") {
   for (int which = 0; which < 2; ++which) {
     auto call = [&](const DescriptorMatrix& dd, float tau, const restitch::Progress& pr = {}) {
       return which == 0 ? BruteForceMatcher{}.match(f, dd, tau, out, pr)
-                        : ReducedMatcher{restitch::TieRule{}, 4}.match(f, dd, tau, out, pr);
+                        : reduced(4).match(f, dd, tau, out, pr);
     };
     CHECK(call(d.topRows(49), 0.1f).code() == restitch::StatusCode::invalid_argument);
     CHECK(call(d, -1.0f).code() == restitch::StatusCode::invalid_argument);
@@ -306,8 +315,7 @@ TEST_CASE("the matchers give the same matches on any number of threads", "[match
     for (int threads : {1, 2, 3, 5}) {
       BruteForceMatcher bf;
       bf.threads = threads;
-      ReducedMatcher rm;
-      rm.dimensions = 8;
+      ReducedMatcher rm = reduced(8);
       rm.threads = threads;
       CHECK(count_differences(run(bf, pf, *problem, 0.15f), reference) == 0);
       CHECK(count_differences(run(rm, pf, *problem, 0.15f), reference) == 0);
@@ -328,5 +336,22 @@ TEST_CASE("the matchers give the same matches on any number of threads", "[match
     CHECK(bf.match(f, d, 0.15f, out, stop).code() == restitch::StatusCode::cancelled);
     CHECK(reports == 2);
     CHECK_FALSE(elsewhere);
+  }
+}
+
+TEST_CASE("the reduced matcher's brute-force fallbacks give the same matches", "[matcher]") {
+  // Below min_rows, above the probe's share, and the reduced path itself: one answer, the contract's.
+  PointSet f;
+  DescriptorMatrix d;
+  lattice_problem(31, 900, 40, 1e-7, f, d);  // near ties everywhere: a high candidate share
+  const auto reference = naive(f, d, 0.15f);
+  ReducedMatcher small;  // 900 rows < min_rows
+  CHECK(count_differences(run(small, f, d, 0.15f), reference) == 0);
+  for (double share : {0.0, 0.125, 1.0}) {
+    ReducedMatcher m = reduced(8);
+    m.max_candidate_share = share;
+    CHECK(count_differences(run(m, f, d, 0.15f), reference) == 0);
+    m.probe_rows = 1;
+    CHECK(count_differences(run(m, f, d, 0.15f), reference) == 0);
   }
 }

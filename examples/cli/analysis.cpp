@@ -45,7 +45,8 @@ void add_policy_options(CLI::App* cmd, PolicyNames& policies) {
       ->capture_default_str();
   cmd->add_option(
          "--matcher", policies.matcher,
-         "matcher policy: brute_force (the reference) or reduced (PCA candidates, exact re-ranking); same result")
+         "matcher policy: reduced (PCA lower bounds, exact re-ranking; brute force where that is faster) or "
+         "brute_force (the reference); the same matches")
       ->check(CLI::IsMember(matcher_names()))
       ->capture_default_str();
   cmd->add_option("--detector", policies.detector,

@@ -46,7 +46,7 @@ inline double printable(double x, double length = 0) { return x == 0 || std::abs
 
 /// The analysis policies chosen on the command line (--descriptor, --matcher, --detector).
 struct PolicyNames {
-  std::string descriptor = "shot", matcher = "brute_force", detector = "histogram";
+  std::string descriptor = "shot", matcher = "reduced", detector = "histogram";
   std::vector<double> offsets;  ///< --offsets: x,y,z triples (model units) made principal first
   GltfLimits limits;            ///< --max-vertices, --max-triangles
   int threads = 0;              ///< --threads: analysis workers (0: every hardware thread)

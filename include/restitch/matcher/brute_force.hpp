@@ -146,6 +146,26 @@ inline float float_at_least(double x) {
   return f;
 }
 
+/// The float threshold of the tie set: with b the best float squared distance of a feature, its
+/// true best d* <= sqrt(b + err), and a target can tie only if its float squared distance is at
+/// most upper(sqrt(b + err))^2 + err (err: float_distance_error of the descriptors' rows).
+struct FloatTieBound {
+  double err = 0;
+  TieRule ties;
+  float operator()(float b) const {
+    const double u = std::sqrt(std::max(0.0, double(b) + err));
+    const double t = ties.upper(u);
+    return float_at_least(t * t + err);
+  }
+};
+
+/// The largest squared norm of the descriptor rows (double), for float_distance_error.
+inline double max_squared_norm(const RowMatrixXf& d) {
+  double max_sq = 0;
+  for (Eigen::Index r = 0; r < d.rows(); ++r) max_sq = std::max(max_sq, d.row(r).cast<double>().squaredNorm());
+  return max_sq;
+}
+
 /// Visits every admissible ordered pair (i, j), i != j, of the rows of `emb`
 /// whose float squared distance d2 = |e_i|^2 + |e_j|^2 - 2 e_i.e_j satisfies
 /// d2 <= state.threshold[i], calling state.offer(i, j, d2). Blocks J >= I only,
@@ -219,20 +239,12 @@ struct BruteForceMatcher {
       const std::size_t n = p.size();
       if (n < 2) return progress.report("matching", 1.0) ? Status() : error(StatusCode::cancelled, "cancelled");
 
-      double max_sq = 0;
-      for (Eigen::Index r = 0; r < p.descriptor.rows(); ++r)
-        max_sq = std::max(max_sq, p.descriptor.row(r).cast<double>().squaredNorm());
-      const double err = detail::float_distance_error(p.descriptor.cols(), max_sq);
-      // Best float distance b seen: the true best d* <= sqrt(b + err), and a
-      // target can tie only if its float distance <= upper(sqrt(b + err))^2 + err.
-      auto bound = [&](float b) {
-        const double u = std::sqrt(std::max(0.0, double(b) + err));
-        const double t = ties.upper(u);
-        return detail::float_at_least(t * t + err);
-      };
+      // Best float distance b seen: a target can tie only under bound(b) (FloatTieBound).
+      const detail::FloatTieBound bound{
+          detail::float_distance_error(p.descriptor.cols(), detail::max_squared_norm(p.descriptor)), ties};
 
       // One state per worker (scan_pairs): its best float distance, threshold and candidates per feature.
-      using Bound = decltype(bound);
+      using Bound = detail::FloatTieBound;
       struct State {
         const Bound* bound;
         std::vector<float> threshold, best;

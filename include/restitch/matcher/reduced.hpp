@@ -23,6 +23,30 @@
 // When D <= dimensions + 1 the reduction is pointless and BruteForceMatcher
 // runs instead.
 //
+// Re-ranking. Pass 2's candidates first get their float distance in the
+// full space, as BruteForceMatcher computes it (with its rigorous error
+// bound, whatever the summation order); only those that can still tie with
+// the best go to the exact double distance. Where descriptors nearly tie
+// (flat faces of man-made models) the lower bounds admit thousands of
+// candidates per feature: on a real 10k-feature fence the exact distances
+// took 6.3 of the matcher's 7.4 s, 1.0 s with this filter.
+//
+// When brute force is faster (speed only; the answer is the same):
+//  * fewer than `min_rows` (4096) rows: the basis (covariance of up to
+//    4096 rows, a 352 x 352 eigensolver, the embedding) costs 30-60 ms,
+//    about what brute force's whole scan costs there (measured on the real
+//    models: 1.5k-2k features 35-50 ms brute force, 70-110 ms reduced;
+//    4.4k: 220 against 194 ms).
+//  * the probe: on `probe_rows` (64) rows at an even stride, the share of
+//    targets whose lower bound is under the row's best float distance
+//    estimates pass 2's candidates. Each costs a full-space dot product,
+//    about four times a pair of brute force's blocked product (which
+//    shares each loaded row across a block and computes half the pairs),
+//    so above 1/8 of the targets brute force's scan is the cheaper one:
+//    `max_candidate_share` = 0.125. Measured shares: bookshelves 0.0002,
+//    real models 0.002-0.07, the real fence 0.215 (reduced 2.1 s, brute
+//    force 1.0 s).
+//
 // Cost: O(#F D^2 + min(#F, pca_rows) D^2 + D^3) for the basis and embedding,
 // then 2 x #F^2 (dimensions + 1) flops in float matrix products (half
 // products, as brute force) plus O(D) per candidate. Dense ties (many
@@ -59,6 +83,13 @@ struct ReducedMatcher {
   /// Workers for the pair scans (detail/parallel.hpp; 0: every hardware thread). The matches are
   /// the same whatever the number.
   int threads = 1;
+  /// Brute force instead where the probe estimates that more than this share of the targets would be
+  /// pass-2 candidates (1: never; see the header comment). Speed only: both give the same matches.
+  double max_candidate_share = 0.125;
+  Eigen::Index probe_rows = 64;  ///< rows the probe looks at
+  /// Brute force instead below this many rows (0: never): the basis costs about as much as the
+  /// whole brute-force scan there (see the header comment).
+  Eigen::Index min_rows = 4096;
 
   Status match(const PointSet& features, const DescriptorMatrix& descriptors, float tau, std::vector<Match>& out,
                const Progress& progress = {}) const {
@@ -72,6 +103,7 @@ struct ReducedMatcher {
       const std::size_t n = p.size();
       if (n < 2) return progress.report("matching", 1.0) ? Status() : error(StatusCode::cancelled, "cancelled");
       const Eigen::Index rows = static_cast<Eigen::Index>(n);
+      if (rows < min_rows) return BruteForceMatcher{ties, threads}.match(features, descriptors, tau, out, progress);
 
       // Basis: mean and covariance (float product, sampled rows), leading eigenvectors.
       const Eigen::RowVectorXd mean = p.descriptor.cast<double>().colwise().sum() / double(rows);
@@ -110,6 +142,34 @@ struct ReducedMatcher {
           std::sqrt(8.0 * double(dim + dimensions) * std::sqrt(double(dimensions + 1)) * 0x1.0p-53 * max_norm_sq);
       const double err = detail::float_distance_error(dimensions + 1, max_sq) + 16.0 * 0x1.0p-24 * max_sq +
                          8.0 * delta * std::sqrt(max_sq) + 4.0 * delta * delta + 1e-10 * max_norm_sq;
+
+      // Probe (docs/method.md 1.3): on `probe_rows` rows at an even stride, the share of targets whose
+      // lower bound falls under the row's best float distance, an estimate of the candidates pass 2
+      // would keep. Where descriptors nearly tie everywhere (flat faces), the lower bounds do not
+      // separate them and brute force's scan is cheaper than pass 2's candidates.
+      if (max_candidate_share < 1 && probe_rows > 0) {
+        const Eigen::Index probes = std::min<Eigen::Index>(probe_rows, rows);
+        detail::RowMatrixXf q(probes, dim), qe(probes, dimensions + 1);
+        for (Eigen::Index k = 0; k < probes; ++k)
+          q.row(k) = p.descriptor.row((k * rows) / probes), qe.row(k) = emb.row((k * rows) / probes);
+        const detail::RowMatrixXf full = q * p.descriptor.transpose(), low = qe * emb.transpose();
+        const Eigen::VectorXf norms = p.descriptor.rowwise().squaredNorm(), enorms = emb.rowwise().squaredNorm();
+        double share = 0;
+        for (Eigen::Index k = 0; k < probes; ++k) {
+          const std::size_t i = static_cast<std::size_t>((k * rows) / probes);
+          float best = std::numeric_limits<float>::infinity();
+          for (Eigen::Index j = 0; j < rows; ++j)
+            if (std::size_t(j) != i && p.admissible(i, std::size_t(j)))
+              best = std::min(best, norms[Eigen::Index(i)] + norms[j] - 2.0f * full(k, j));
+          std::size_t under = 0;
+          for (Eigen::Index j = 0; j < rows; ++j)
+            under += std::size_t(j) != i && enorms[Eigen::Index(i)] + enorms[j] - 2.0f * low(k, j) <= best;
+          share += double(under) / double(rows - 1);
+        }
+        share /= double(probes);
+        if (share > max_candidate_share)
+          return BruteForceMatcher{ties, threads}.match(features, descriptors, tau, out, progress);
+      }
 
       // Pass 1: the `seeds` smallest lower bounds per feature (max-heaps), one set per worker.
       const std::size_t k_seeds = static_cast<std::size_t>(seeds);
@@ -165,12 +225,32 @@ struct ReducedMatcher {
       };
       std::vector<CandidateState> states(workers, CandidateState{threshold, std::vector<std::vector<std::int32_t>>(n)});
       RESTITCH_TRY(detail::scan_pairs(p, emb, states, progress, 0.45, 0.95));
+      // The candidates' float distances in the full space first, as BruteForceMatcher computes them
+      // (any summation order is within its error bound): only those that can still tie with the
+      // best go to the exact (double, in k order) re-ranking. Where descriptors nearly tie (flat
+      // faces of man-made models) the lower bounds admit thousands of candidates per feature, and
+      // the exact distances, not the scans, were the cost (a fence: 6.3 of 7.4 s).
+      const Eigen::VectorXf norms = p.descriptor.rowwise().squaredNorm();
+      const detail::FloatTieBound full{detail::float_distance_error(dim, detail::max_squared_norm(p.descriptor)),
+                                       ties};
       std::vector<double> scratch;
-      std::vector<std::int32_t> ids;
+      std::vector<std::int32_t> ids, kept;
+      std::vector<float> d2;
       for (std::size_t i = 0; i < n; ++i) {
         ids.clear();
         for (const CandidateState& st : states) ids.insert(ids.end(), st.cand[i].begin(), st.cand[i].end());
-        detail::choose_match(p, i, ids, ties, scratch, out);
+        d2.resize(ids.size());
+        float best = std::numeric_limits<float>::infinity();
+        const auto row = p.descriptor.row(static_cast<Eigen::Index>(i));
+        for (std::size_t k = 0; k < ids.size(); ++k) {
+          d2[k] = norms[static_cast<Eigen::Index>(i)] + norms[ids[k]] - 2.0f * row.dot(p.descriptor.row(ids[k]));
+          best = std::min(best, d2[k]);
+        }
+        const float limit = full(best);
+        kept.clear();
+        for (std::size_t k = 0; k < ids.size(); ++k)
+          if (d2[k] <= limit) kept.push_back(ids[k]);
+        detail::choose_match(p, i, kept, ties, scratch, out);
       }
       if (!progress.report("matching", 1.0)) return error(StatusCode::cancelled, "cancelled while matching features");
       return {};
