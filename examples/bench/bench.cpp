@@ -112,10 +112,12 @@ double growth_exponent(const std::vector<std::pair<double, double>>& tris_ms) {
 void bench_analysis(const std::vector<std::size_t>& sizes, const std::string& models, bool quick,
                     nlohmann::json& out) {
   const int all = resolve_threads(0);
-  std::printf("== analysis: ms per stage on 1 thread (defaults: SHOT, brute-force matcher), total on %d threads\n",
-              all);
-  std::printf("%-15s %8s %8s %9s %9s %9s %9s %9s %9s %9s %9s %7s %8s\n", "sample", "tris", "features", "sampling",
-              "descript", "matching", "histogr", "refine", "lattice", "total", "total/N", "speedup", "peak MB");
+  std::printf(
+      "== analysis: ms per stage on 1 thread (library defaults: SHOT, brute-force matcher); total on %d threads;\n"
+      "   cli: the command line's defaults (reduced matcher, %d threads)\n",
+      all, all);
+  std::printf("%-15s %8s %8s %9s %9s %9s %9s %9s %9s %9s %9s %7s %9s %8s\n", "sample", "tris", "features", "sampling",
+              "descript", "matching", "histogr", "refine", "lattice", "total", "total/N", "speedup", "cli", "peak MB");
   for (const std::string& family : {std::string("bookshelf"), std::string("fence")}) {
     std::vector<std::pair<double, double>> growth;
     for (std::size_t target : sizes) {
@@ -127,13 +129,15 @@ void bench_analysis(const std::vector<std::size_t>& sizes, const std::string& mo
         continue;
       }
       auto b = timed_analysis(s.mesh, all, total_all);
-      const bool same = b && b->matches == a->matches && b->principal == a->principal;
+      double total_cli = 0;
+      auto c = timed_analysis<ReducedMatcher>(s.mesh, all, total_cli);
+      const bool same = b && c && b->matches == a->matches && c->matches == a->matches && b->principal == a->principal;
       auto ms = [&](const char* k) { return a->timings_ms.count(k) ? a->timings_ms.at(k) : 0.0; };
       const double peak = peak_rss_mb();
-      std::printf("%-15s %8zu %8lld %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %7.2f %8.0f%s\n", family.c_str(),
-                  s.mesh.triangle_count(), (long long)a->features.points.rows(), ms("sampling"), ms("descriptors"),
-                  ms("matching"), ms("histogram"), ms("refinement"), ms("lattice"), total, total_all,
-                  total / total_all, peak, same ? "" : "  (RESULTS DIFFER)");
+      std::printf("%-15s %8zu %8lld %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f %7.2f %9.1f %8.0f%s\n",
+                  family.c_str(), s.mesh.triangle_count(), (long long)a->features.points.rows(), ms("sampling"),
+                  ms("descriptors"), ms("matching"), ms("histogram"), ms("refinement"), ms("lattice"), total,
+                  total_all, total / total_all, total_cli, peak, same ? "" : "  (RESULTS DIFFER)");
       growth.emplace_back(double(s.mesh.triangle_count()), total);
       out["analysis"].push_back({{"sample", family},
                                  {"triangles", s.mesh.triangle_count()},
@@ -143,6 +147,7 @@ void bench_analysis(const std::vector<std::size_t>& sizes, const std::string& mo
                                  {"total_ms", total},
                                  {"threads", all},
                                  {"total_ms_threads", total_all},
+                                 {"total_ms_cli", total_cli},
                                  {"same_result_threads", same},
                                  {"peak_rss_mb", peak},
                                  {"principal", a->principal.size()}});
@@ -153,10 +158,12 @@ void bench_analysis(const std::vector<std::size_t>& sizes, const std::string& mo
     out["analysis_growth"][family] = e;
   }
   if (quick) return;
-  std::printf("\n== analysis of the real models in %s (ms; 1 thread, %d threads; matching with the reduced matcher)\n",
-              models.c_str(), all);
-  std::printf("%-36s %8s %9s %9s %7s %9s %9s\n", "model", "tris", "1 thread", "N threads", "speedup", "matching",
-              "reduced");
+  std::printf(
+      "\n== analysis of the real models in %s (ms: total on 1 and %d threads; matching alone, brute force and\n"
+      "   reduced, 1 thread; cli: total with the command line's defaults, reduced matcher on %d threads)\n",
+      models.c_str(), all, all);
+  std::printf("%-36s %8s %9s %9s %7s %9s %9s %9s\n", "model", "tris", "1 thread", "N threads", "speedup", "matching",
+              "reduced", "cli");
   std::vector<std::filesystem::path> files;
   if (std::filesystem::is_directory(models))
     for (const auto& e : std::filesystem::directory_iterator(models))
@@ -169,12 +176,15 @@ void bench_analysis(const std::vector<std::size_t>& sizes, const std::string& mo
     auto a = timed_analysis(*mesh, 1, one);
     auto b = timed_analysis(*mesh, all, many);
     auto r = timed_analysis<ReducedMatcher>(*mesh, 1, red);
-    if (!a || !b || !r) continue;
-    const bool same = b->matches == a->matches && r->matches == a->matches && b->principal == a->principal;
+    double cli = 0;
+    auto c = timed_analysis<ReducedMatcher>(*mesh, all, cli);
+    if (!a || !b || !r || !c) continue;
+    const bool same = b->matches == a->matches && r->matches == a->matches && c->matches == a->matches &&
+                      b->principal == a->principal;
     const double match_ms = a->timings_ms.count("matching") ? a->timings_ms.at("matching") : 0.0;
     const double red_ms = r->timings_ms.count("matching") ? r->timings_ms.at("matching") : 0.0;
-    std::printf("%-36s %8zu %9.0f %9.0f %7.2f %9.0f %9.0f%s\n", f.filename().string().c_str(), mesh->triangle_count(),
-                one, many, one / many, match_ms, red_ms, same ? "" : "  (RESULTS DIFFER)");
+    std::printf("%-36s %8zu %9.0f %9.0f %7.2f %9.0f %9.0f %9.0f%s\n", f.filename().string().c_str(),
+                mesh->triangle_count(), one, many, one / many, match_ms, red_ms, cli, same ? "" : "  (RESULTS DIFFER)");
     out["analysis_models"].push_back({{"model", f.filename().string()},
                                       {"triangles", mesh->triangle_count()},
                                       {"total_ms", one},
@@ -182,6 +192,7 @@ void bench_analysis(const std::vector<std::size_t>& sizes, const std::string& mo
                                       {"total_ms_threads", many},
                                       {"matching_ms", match_ms},
                                       {"matching_ms_reduced", red_ms},
+                                      {"total_ms_cli", cli},
                                       {"same_result", same}});
   }
 }
