@@ -160,6 +160,16 @@ expect 2 "$bin" resize "$work/pins.glb" -o "$work/x.glb"
 "$bin" sample bookshelf -o "$work/shelf.glb" >/dev/null
 expect 0 "$bin" resize "$work/shelf.glb" -o "$work/shelf+.glb" --steps 2,-1 --descriptor fpfh --matcher reduced
 validate "$work/shelf+.glb"
+# --threads and --matcher change how fast, never what: the same model bytes and the same report (its JSON
+# without the timings, the matcher's name and the output file name) on 1 and 2 threads, with the reduced
+# matcher (the default) and brute force.
+expect 0 "$bin" resize "$work/shelf.glb" -o "$work/shelf-t1.glb" --steps 1,1 --threads 1 --json "$work/shelf-t1.json"
+expect 0 "$bin" resize "$work/shelf.glb" -o "$work/shelf-t2.glb" --steps 1,1 --threads 2 --matcher brute_force \
+  --json "$work/shelf-t2.json"
+cmp -s "$work/shelf-t1.glb" "$work/shelf-t2.glb" && ok || bad "resize: outputs differ between --threads 1 and 2"
+strip_run() { node -e "const j=JSON.parse(require('fs').readFileSync(0,'utf8')); const drop=(o)=>{if(o&&typeof o==='object'){for(const k of Object.keys(o)){if(k==='timings_ms'||k==='matcher'||k==='file')delete o[k];else drop(o[k]);}}}; drop(j); console.log(JSON.stringify(j))"; }
+[ "$(strip_run < "$work/shelf-t1.json")" = "$(strip_run < "$work/shelf-t2.json")" ] && ok || bad "resize --json differs between --threads 1 and 2"
+expect_error 2 "threads" "$bin" analyze "$work/shelf.glb" --threads -1
 # --detector: the autocorrelation detector finds the shelf's two repeats and says so in the JSON.
 expect 0 "$bin" analyze "$work/shelf.glb" --detector autocorrelation --json "$work/shelf-ac.json"
 [ "$(json_field detector < "$work/shelf-ac.json")" = '"autocorrelation"' ] && ok || bad "analyze --detector: JSON detector field"
