@@ -124,8 +124,8 @@ struct ShotDescriptor {
       // Each query writes its own row: chunks of queries are tasks (detail/parallel.hpp).
       const Eigen::Index chunk = detail::descriptor_progress_stride;
       const std::size_t chunks = std::size_t((nq + chunk - 1) / chunk);
-      const int workers = int(std::min<std::size_t>(std::size_t(std::max(1, resolve_threads(threads))), chunks));
-      std::vector<std::vector<detail::Neighbour>> neighbours(std::size_t(std::max(1, workers)));
+      const int workers = int(std::min<std::size_t>(std::size_t(resolve_threads(threads)), chunks));  // chunks >= 1
+      std::vector<std::vector<detail::Neighbour>> neighbours(static_cast<std::size_t>(workers));
       const auto describe = [&](std::size_t task, int worker) {
         std::vector<detail::Neighbour>& nn = neighbours[std::size_t(worker)];
         const Eigen::Index end = std::min(nq, Eigen::Index(task + 1) * chunk);

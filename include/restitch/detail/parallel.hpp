@@ -9,7 +9,8 @@
 // which task depends on timing; callers make the result independent of it
 // (each task writes its own rows, or each worker its own state, merged after
 // in worker-independent order). That is what makes every result
-// bit-identical whatever the thread count (tests/threads_test.cpp).
+// bit-identical whatever the thread count ("[threads]" tests in
+// tests/analyze_test.cpp, matcher_test.cpp and runtime_test.cpp).
 //
 // Progress and cancel: only worker 0 calls tick(done) (done: tasks finished
 // so far, all workers), after each of its tasks, and once more with
@@ -22,9 +23,9 @@
 // turns it into a Status).
 //
 // threads <= 1, or a single task, runs inline: no thread is created. A
-// WebAssembly build without pthreads (the page's module) always runs inline. A thread that cannot be started
-// (std::system_error) is simply not used: its share of the tasks goes to
-// the workers that run.
+// WebAssembly build without pthreads (the page's module) always runs
+// inline. A thread that cannot be started (std::system_error) is simply not
+// used: its share of the tasks goes to the workers that run.
 #pragma once
 
 #include <algorithm>

@@ -223,6 +223,62 @@ Status scan_pairs(const MatchProblem& p, const RowMatrixXf& emb, std::vector<Sta
 
 }  // namespace detail
 
+namespace detail {
+/// Brute force on a prepared problem (prepare_matching; `out` sized by it, at least 2 features):
+/// the symmetric blocked scan on `threads` workers, then the exact re-ranking. Reports "matching"
+/// progress in [0, 0.95] during the scan. ReducedMatcher calls it where brute force is faster.
+inline Status match_all_pairs(const MatchProblem& p, const TieRule& ties, int threads, std::vector<Match>& out,
+                              const Progress& progress) {
+  const std::size_t n = p.size();
+  // Best float distance b seen: a target can tie only under bound(b) (FloatTieBound).
+  const FloatTieBound bound{float_distance_error(p.descriptor.cols(), max_squared_norm(p.descriptor)), ties};
+
+  // One state per worker (scan_pairs): its best float distance, threshold and candidates per feature.
+  struct State {
+    const FloatTieBound* bound;
+    std::vector<float> threshold, best;
+    std::vector<std::vector<std::pair<std::int32_t, float>>> cand;
+    std::vector<std::uint32_t> prune_at;
+    State(const FloatTieBound& b, std::size_t rows)
+        : bound(&b),
+          threshold(rows, std::numeric_limits<float>::infinity()),
+          best(rows, std::numeric_limits<float>::infinity()),
+          cand(rows),
+          prune_at(rows, 32) {}
+    void offer(std::size_t i, std::size_t j, float d2) {
+      auto& c = cand[i];
+      c.emplace_back(static_cast<std::int32_t>(j), d2);
+      if (d2 < best[i]) best[i] = d2, threshold[i] = (*bound)(d2);
+      if (c.size() >= prune_at[i]) {
+        const float t = threshold[i];
+        c.erase(std::remove_if(c.begin(), c.end(),
+                               [t](const std::pair<std::int32_t, float>& e) { return e.second > t; }),
+                c.end());
+        prune_at[i] = static_cast<std::uint32_t>(std::max<std::size_t>(32, 2 * c.size()));
+      }
+    }
+  };
+  std::vector<State> states(std::size_t(resolve_threads(threads)), State(bound, n));
+  RESTITCH_TRY(scan_pairs(p, p.descriptor, states, progress, 0.0, 0.95));
+
+  // Merged: the threshold of the best float distance over all workers. A worker pruned only
+  // above its own threshold, never below this one, so every candidate under it is still held.
+  std::vector<std::int32_t> ids;
+  std::vector<double> scratch;
+  for (std::size_t i = 0; i < n; ++i) {
+    float b = std::numeric_limits<float>::infinity();
+    for (const State& st : states) b = std::min(b, st.best[i]);
+    const float t = b < std::numeric_limits<float>::infinity() ? bound(b) : b;
+    ids.clear();
+    for (const State& st : states)
+      for (const auto& e : st.cand[i])
+        if (e.second <= t) ids.push_back(e.first);
+    choose_match(p, i, ids, ties, scratch, out);
+  }
+  return {};
+}
+}  // namespace detail
+
 /// The exact reference matcher (see the top of this header and matcher.hpp).
 struct BruteForceMatcher {
   TieRule ties;
@@ -236,56 +292,8 @@ struct BruteForceMatcher {
       detail::MatchProblem p;
       RESTITCH_TRY(detail::prepare_matching(features, descriptors, tau, out, p));
       if (!progress.report("matching", 0.0)) return error(StatusCode::cancelled, "cancelled while matching features");
-      const std::size_t n = p.size();
-      if (n < 2) return progress.report("matching", 1.0) ? Status() : error(StatusCode::cancelled, "cancelled");
-
-      // Best float distance b seen: a target can tie only under bound(b) (FloatTieBound).
-      const detail::FloatTieBound bound{
-          detail::float_distance_error(p.descriptor.cols(), detail::max_squared_norm(p.descriptor)), ties};
-
-      // One state per worker (scan_pairs): its best float distance, threshold and candidates per feature.
-      using Bound = detail::FloatTieBound;
-      struct State {
-        const Bound* bound;
-        std::vector<float> threshold, best;
-        std::vector<std::vector<std::pair<std::int32_t, float>>> cand;
-        std::vector<std::uint32_t> prune_at;
-        State(const Bound& b, std::size_t rows)
-            : bound(&b),
-              threshold(rows, std::numeric_limits<float>::infinity()),
-              best(rows, std::numeric_limits<float>::infinity()),
-              cand(rows),
-              prune_at(rows, 32) {}
-        void offer(std::size_t i, std::size_t j, float d2) {
-          auto& c = cand[i];
-          c.emplace_back(static_cast<std::int32_t>(j), d2);
-          if (d2 < best[i]) best[i] = d2, threshold[i] = (*bound)(d2);
-          if (c.size() >= prune_at[i]) {
-            const float t = threshold[i];
-            c.erase(std::remove_if(c.begin(), c.end(),
-                                   [t](const std::pair<std::int32_t, float>& e) { return e.second > t; }),
-                    c.end());
-            prune_at[i] = static_cast<std::uint32_t>(std::max<std::size_t>(32, 2 * c.size()));
-          }
-        }
-      };
-      std::vector<State> states(std::size_t(std::max(1, resolve_threads(threads))), State(bound, n));
-      RESTITCH_TRY(detail::scan_pairs(p, p.descriptor, states, progress, 0.0, 0.95));
-
-      // Merged: the threshold of the best float distance over all workers. A worker pruned only
-      // above its own threshold, never below this one, so every candidate under it is still held.
-      std::vector<std::int32_t> ids;
-      std::vector<double> scratch;
-      for (std::size_t i = 0; i < n; ++i) {
-        float b = std::numeric_limits<float>::infinity();
-        for (const State& st : states) b = std::min(b, st.best[i]);
-        const float t = b < std::numeric_limits<float>::infinity() ? bound(b) : b;
-        ids.clear();
-        for (const State& st : states)
-          for (const auto& e : st.cand[i])
-            if (e.second <= t) ids.push_back(e.first);
-        detail::choose_match(p, i, ids, ties, scratch, out);
-      }
+      if (p.size() < 2) return progress.report("matching", 1.0) ? Status() : error(StatusCode::cancelled, "cancelled");
+      RESTITCH_TRY(detail::match_all_pairs(p, ties, threads, out, progress));
       if (!progress.report("matching", 1.0)) return error(StatusCode::cancelled, "cancelled while matching features");
       return {};
     });

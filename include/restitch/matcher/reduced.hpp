@@ -99,14 +99,18 @@ struct ReducedMatcher {
     return detail::guarded("ReducedMatcher::match", [&]() -> Status {
       RESTITCH_ASSERT(dimensions >= 1 && seeds >= 1 && pca_rows >= 1, "ReducedMatcher parameters must be >= 1");
       const Eigen::Index dim = descriptors.cols();
-      if (dim <= dimensions + 1) return BruteForceMatcher{ties, threads}.match(features, descriptors, tau, out, progress);
       detail::MatchProblem p;
       RESTITCH_TRY(detail::prepare_matching(features, descriptors, tau, out, p));
       if (!progress.report("matching", 0.0)) return error(StatusCode::cancelled, "cancelled while matching features");
       const std::size_t n = p.size();
       if (n < 2) return progress.report("matching", 1.0) ? Status() : error(StatusCode::cancelled, "cancelled");
       const Eigen::Index rows = static_cast<Eigen::Index>(n);
-      if (rows < min_rows) return BruteForceMatcher{ties, threads}.match(features, descriptors, tau, out, progress);
+      // Brute force on the problem already prepared, where it is faster (see the header comment).
+      const auto brute_force = [&]() -> Status {
+        RESTITCH_TRY(detail::match_all_pairs(p, ties, threads, out, progress));
+        return progress.report("matching", 1.0) ? Status() : error(StatusCode::cancelled, "cancelled");
+      };
+      if (dim <= dimensions + 1 || rows < min_rows) return brute_force();
 
       // Basis: mean and covariance (float product, sampled rows), leading eigenvectors.
       const Eigen::RowVectorXd mean = p.descriptor.cast<double>().colwise().sum() / double(rows);
@@ -146,6 +150,7 @@ struct ReducedMatcher {
       const double err = detail::float_distance_error(dimensions + 1, max_sq) + 16.0 * 0x1.0p-24 * max_sq +
                          8.0 * delta * std::sqrt(max_sq) + 4.0 * delta * delta + 1e-10 * max_norm_sq;
 
+      const Eigen::VectorXf norms = p.descriptor.rowwise().squaredNorm();  // the probe's and pass 2's
       // Probe (docs/method.md 1.3): on `probe_rows` rows at an even stride, the share of targets whose
       // lower bound falls under the row's best float distance, an estimate of the candidates pass 2
       // would keep. Where descriptors nearly tie everywhere (flat faces), the lower bounds do not
@@ -156,7 +161,7 @@ struct ReducedMatcher {
         for (Eigen::Index k = 0; k < probes; ++k)
           q.row(k) = p.descriptor.row((k * rows) / probes), qe.row(k) = emb.row((k * rows) / probes);
         const detail::RowMatrixXf full = q * p.descriptor.transpose(), low = qe * emb.transpose();
-        const Eigen::VectorXf norms = p.descriptor.rowwise().squaredNorm(), enorms = emb.rowwise().squaredNorm();
+        const Eigen::VectorXf enorms = emb.rowwise().squaredNorm();
         double share = 0;
         for (Eigen::Index k = 0; k < probes; ++k) {
           const std::size_t i = static_cast<std::size_t>((k * rows) / probes);
@@ -170,8 +175,7 @@ struct ReducedMatcher {
           share += double(under) / double(rows - 1);
         }
         share /= double(probes);
-        if (share > max_candidate_share)
-          return BruteForceMatcher{ties, threads}.match(features, descriptors, tau, out, progress);
+        if (share > max_candidate_share) return brute_force();
       }
 
       // Pass 1: the `seeds` smallest lower bounds per feature (max-heaps), one set per worker.
@@ -197,7 +201,7 @@ struct ReducedMatcher {
           if (s == k) threshold[i] = h[0].first;
         }
       };
-      const std::size_t workers = std::size_t(std::max(1, resolve_threads(threads)));
+      const std::size_t workers = std::size_t(resolve_threads(threads));
       std::vector<float> threshold(n);
       {
         std::vector<SeedState> states(workers, SeedState(n, k_seeds));
@@ -233,7 +237,6 @@ struct ReducedMatcher {
       // best go to the exact (double, in k order) re-ranking. Where descriptors nearly tie (flat
       // faces of man-made models) the lower bounds admit thousands of candidates per feature, and
       // the exact distances, not the scans, were the cost (a fence: 6.3 of 7.4 s).
-      const Eigen::VectorXf norms = p.descriptor.rowwise().squaredNorm();
       const detail::FloatTieBound full{detail::float_distance_error(dim, detail::max_squared_norm(p.descriptor)),
                                        ties};
       std::vector<double> scratch;

@@ -306,7 +306,7 @@ inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<Offset
   options.spacing = ev.dense_spacing;
   const SelfAligner aligner(ev.dense, options, ev.anchors);
   const double radius = options.overlap_radius();
-  const int threads = std::max(1, resolve_threads(tests.threads));
+  const int threads = resolve_threads(tests.threads);
   // Every candidate's ICP (independent: tasks on the workers), then, in order, the duplicates out,
   // then the tests of those kept (independent again), then the part test in order.
   std::vector<RefinedOffset> refined(todo.size());
