@@ -547,8 +547,11 @@ test('the module writes the same bytes as the native command-line tool, from the
   }
 });
 
-test('prepare builds the first resize\'s retargeter: same result bytes, refusals in words', () => {
-  const resized = (prepareFirst) => {
+test('prepare builds the first resize\'s retargeter and warms it: same result bytes, no result shown, refusals in words', () => {
+  // prepare also runs one resize (+1 along v1) and throws it away (the warm-up, bindings.cpp): the session
+  // must show no result after it, and every later resize, the warm-up's own steps included and about another
+  // pivot, must give the bytes of a session that never prepared.
+  const resized = (prepareFirst, steps, pivot) => {
     const s = new restitch.Session();
     assert.ok(s.loadSample('pin_header', {}).ok);
     assert.ok(s.analyze('shot', 'brute_force', 'histogram', () => {}).ok);
@@ -557,14 +560,17 @@ test('prepare builds the first resize\'s retargeter: same result bytes, refusals
       assert.ok(p.ok, p.message);
       assert.ok(p.ms >= 0);
       assert.ok(s.prepare('lattice', 'descriptor').ok, 'a second prepare keeps the retargeter');
+      assert.equal(s.saveGlb('result').ok, false, 'the warm-up resize is not the session\'s result');
+      assert.equal(s.mesh('result').ok, false);
     }
-    const r = s.retarget(2, 0, 0, 'lattice');
+    const r = s.retarget(...steps, 'lattice', pivot);
     assert.ok(r.ok, r.message);
     const bytes = Buffer.from(s.saveGlb('result').bytes);
     s.delete();
     return bytes;
   };
-  assert.ok(Buffer.compare(resized(true), resized(false)) === 0);
+  for (const [steps, pivot] of [[[2, 0, 0], 'origin'], [[1, 0, 0], 'origin'], [[1, 0, 0], 'max'], [[-1, 0, 0], 'center']])
+    assert.ok(Buffer.compare(resized(true, steps, pivot), resized(false, steps, pivot)) === 0, `${steps} about ${pivot}`);
   const s = new restitch.Session();
   assert.equal(s.prepare('lattice', 'descriptor').code, 'invalid_argument', 'nothing analysed yet');
   assert.ok(s.loadSample('pin_header', {}).ok);
