@@ -31,7 +31,7 @@
 //                                           docs/method.md 2.8), so the page can draw it red.
 //     .prepare(labelSpace, seamEnergy)   -> {ok, ms} | error: builds what the next .retarget with these
 //                                           policies needs (the Retargeter: grid, cell descriptors, stitch
-//                                           cache) and runs one resize (+1 along v1) that it throws away, so
+//                                           cache) and runs one resize per principal offset (+1 along it) that it throws away, so
 //                                           the first slider move pays only for the resize, warm.
 //     .mesh(which)                       -> {ok, positions, normals?, uvs?, colors?, indices, groups[]} | error
 //                                           (which: "input" | "result")
@@ -252,18 +252,20 @@ class Session {
     if (analysis_->principal.empty())
       return status_object(error(StatusCode::no_repetition, "no principal offset: nothing to prepare"));
     if (Status s = ensure_retargeter(label_space, *energy); !s) return status_object(s);
-    // Warm-up: one resize (+1 along the first principal offset) and its conversion to JS, thrown away. The
+    // Warm-up: one resize per principal offset (+1 along it) and its conversion to JS, thrown away. The
     // first call of a code path in a fresh WebAssembly instance runs it cold (the browser compiles functions on
     // their first call, in a baseline tier, and optimises hot ones later): in Chromium the first resize took
     // 43-59 ms of the library's time against 1-8 ms for the same work later. Its result and the session's
     // last result are independent (the retargeter's caches are caches), so nothing the page sees changes.
-    Result<Eigen::Array3i> warm_steps = lattice_steps_from_principal(*analysis_, {1, 0, 0});
-    if (warm_steps) {
+    for (std::size_t i = 0; i < std::min<std::size_t>(analysis_->principal.size(), 3); ++i) {
+      std::vector<int> principal_steps{0, 0, 0};
+      principal_steps[i] = 1;
+      Result<Eigen::Array3i> warm_steps = lattice_steps_from_principal(*analysis_, principal_steps);
+      if (!warm_steps) continue;
       Result<RetargetResult> warm = retargeter_->retarget(*warm_steps);
-      if (warm) {
-        val answer = retarget_answer(*warm, *analysis_, label_space);
-        val arrays = mesh_arrays(warm->mesh);
-      }
+      if (!warm) continue;
+      val answer = retarget_answer(*warm, *analysis_, label_space);
+      val arrays = mesh_arrays(warm->mesh);
     }
     val out = val::object();
     out.set("ok", true);

@@ -548,12 +548,12 @@ test('the module writes the same bytes as the native command-line tool, from the
 });
 
 test('prepare builds the first resize\'s retargeter and warms it: same result bytes, no result shown, refusals in words', () => {
-  // prepare also runs one resize (+1 along v1) and throws it away (the warm-up, bindings.cpp): the session
+  // prepare also runs one resize per principal offset (+1 along it) and throws it away (the warm-up, bindings.cpp): the session
   // must show no result after it, and every later resize, the warm-up's own steps included and about another
   // pivot, must give the bytes of a session that never prepared.
-  const resized = (prepareFirst, steps, pivot) => {
+  const resized = (prepareFirst, steps, pivot, sample = 'pin_header') => {
     const s = new restitch.Session();
-    assert.ok(s.loadSample('pin_header', {}).ok);
+    assert.ok(s.loadSample(sample, {}).ok);
     assert.ok(s.analyze('shot', 'brute_force', 'histogram', () => {}).ok);
     if (prepareFirst) {
       const p = s.prepare('lattice', 'descriptor');
@@ -571,6 +571,8 @@ test('prepare builds the first resize\'s retargeter and warms it: same result by
   };
   for (const [steps, pivot] of [[[2, 0, 0], 'origin'], [[1, 0, 0], 'origin'], [[1, 0, 0], 'max'], [[-1, 0, 0], 'center']])
     assert.ok(Buffer.compare(resized(true, steps, pivot), resized(false, steps, pivot)) === 0, `${steps} about ${pivot}`);
+  // two principal offsets: the warm-up resizes along each
+  assert.ok(Buffer.compare(resized(true, [1, 1, 0], 'min', 'bookshelf'), resized(false, [1, 1, 0], 'min', 'bookshelf')) === 0);
   const s = new restitch.Session();
   assert.equal(s.prepare('lattice', 'descriptor').code, 'invalid_argument', 'nothing analysed yet');
   assert.ok(s.loadSample('pin_header', {}).ok);
