@@ -132,6 +132,49 @@ TEST_CASE("retarget: the closed pin header stays closed, grown, shrunk and down 
   }
 }
 
+TEST_CASE("retarget: copies that differ by less than the weld tolerance are welded closed; out of range refused",
+          "[retarget][samples]") {
+  // The closed 4-pin header with every vertex moved by up to 1e-5 of the diagonal per coordinate (a
+  // deterministic function of its position): the input stays closed (indexed), but copies meeting at a seam differ by up
+  // to 2 sqrt(3) 1e-5 = 3.5e-5 of the diagonal. Stitched with the clean model's analysis (so only the
+  // weld differs): open at the default 1e-6, closed at 1e-4 (RetargetOptions::weld_tolerance).
+  auto s = families::generate("pin_header", {{"pins", 4}, {"closed", 1}});
+  REQUIRE(s.ok());
+  auto a = analyze(s->mesh);
+  REQUIRE(a.ok());
+  const Prepared p{std::move(*s), std::move(*a)};
+  Mesh noisy = p.sample.mesh;
+  const double diag = bounding_box(noisy).size().norm();
+  for (Eigen::Index v = 0; v < noisy.V.rows(); ++v) {  // a function of the position: coincident vertices stay so
+    const Eigen::Vector3d q = p.sample.mesh.V.row(v).cast<double>().transpose();
+    for (int c = 0; c < 3; ++c)
+      noisy.V(v, c) += float(1e-5 * diag * std::sin(129.898 * q.x() + 782.33 * q.y() + 377.19 * q.z() + 1.7 * c));
+  }
+  REQUIRE(boundary_edge_count(noisy) == 0);
+  for (const int k : {1, -1}) {
+    INFO("steps " << k);
+    RetargetOptions options;
+    options.boundary_edges = true;
+    auto open = Retargeter<>(noisy, p.analysis, options).retarget(steps_along(p, 0, k));
+    REQUIRE(open.ok());
+    CHECK(open->report.boundary_edges_out > 0);
+    options.weld_tolerance = 1e-4;
+    auto closed = Retargeter<>(noisy, p.analysis, options).retarget(steps_along(p, 0, k));
+    REQUIRE(closed.ok());
+    CHECK(closed->report.boundary_edges_out == 0);
+    auto truth = families::generate("pin_header", {{"pins", 4 + k}, {"closed", 1}});
+    REQUIRE(truth.ok());
+    CHECK(test::symmetric_surface_distance(closed->mesh, truth->mesh, 0.004 * diag) < 1e-4 * diag);
+  }
+  for (const double bad : {-1e-6, 0.02, double(NAN)}) {
+    RetargetOptions options;
+    options.weld_tolerance = bad;
+    Retargeter<> r(p.sample.mesh, p.analysis, options);
+    CHECK(r.status().code() == StatusCode::invalid_argument);
+    CHECK(r.status().message().find("weld tolerance") != std::string::npos);
+  }
+}
+
 TEST_CASE("retarget: the bookshelf keeps both side panels; the sheared facade stays sheared", "[retarget][samples]") {
   {
     const Prepared& p = prepared("bookshelf");

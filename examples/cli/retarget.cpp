@@ -28,7 +28,7 @@ namespace {
 struct ResizeArgs {
   std::string input, output, json, dump_mrf, labels = "lattice", pivot = "origin", seam_energy = "descriptor";
   bool exact = false, strict = false, seams_on_cells = false;
-  double seam_tolerance = 0;
+  double seam_tolerance = 0, weld_tolerance = 0;
   PolicyNames policies;
   std::vector<int> steps;
   std::vector<double> size;
@@ -128,6 +128,7 @@ int run_resize(const ResizeArgs& args) {
   options.max_problem_size = args.max_problem;
   options.pivot = *pivots;
   options.seam_tolerance = args.seam_tolerance;
+  options.weld_tolerance = args.weld_tolerance;
   options.move_seams = !args.seams_on_cells;
   if (!parse_seam_energy(args.seam_energy, options.seam_energy)) return exit_usage;  // CLI11 checked it
   options.boundary_edges = true;  // the summary and the JSON report print them
@@ -200,6 +201,11 @@ void register_resize(CLI::App& app, int* exit_code) {
   cmd->add_option("--seam-tolerance", args->seam_tolerance,
                   "warn about seams mismatching by more than this (model units; 0: 3 x the sample spacing)")
       ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--weld-tolerance", args->weld_tolerance,
+                  "merge seam vertices and split T-junctions this close, as a fraction of the bounding-box diagonal "
+                  "(0: 1e-6, exact copies; 1e-4 closes most seams of models whose copies differ slightly)")
+      ->check(CLI::Range(0.0, 1e-2))
       ->capture_default_str();
   cmd->add_flag("--seams-on-cells", args->seams_on_cells,
                 "keep every seam on a cell plane, as the paper does (by default a seam moves within half a cell to "

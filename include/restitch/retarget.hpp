@@ -45,6 +45,8 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "restitch/analysis.hpp"
@@ -84,6 +86,13 @@ struct RetargetOptions {
   /// (when they do not at the cell plane), so a part longer than the cut's neighbourhood is not cut when
   /// an uncut position exists. Off: every seam on a cell plane, as in the paper.
   bool move_seams = true;
+  /// Weld tolerance of the stitcher, relative to the input's bounding-box diagonal: seam vertices this
+  /// close are merged and T-junctions this close split (restitch/stitch/stitch.hpp). 0 (default): the
+  /// stitcher's own (ClipStitcher: 1e-6, exact copies only). Real models' copies often differ by 1e-5 to
+  /// 1e-4 of the diagonal, so their seams stay open at 1e-6 (README, Known limits); a larger value closes
+  /// them and also snaps and drops slivers at that scale. Set on a stitcher with a `weld_tolerance`
+  /// member; refused (invalid_argument) outside [0, 1e-2] or for a stitcher without one.
+  double weld_tolerance = 0;
 };
 
 /// One seam of an output: two neighbouring output cells (sharing a face) with different labels, or an
@@ -228,6 +237,15 @@ inline std::array<bool, 3> size_changes(const Eigen::Vector3d& target, const Eig
   return out;
 }
 
+namespace detail {
+template <class S, class = void>
+struct has_weld_tolerance : std::false_type {};
+template <class S>
+struct has_weld_tolerance<S, std::void_t<decltype(std::declval<S&>().weld_tolerance = 1.0)>> : std::true_type {};
+template <class S>
+inline constexpr bool has_weld_tolerance_v = has_weld_tolerance<S>::value;
+}  // namespace detail
+
 template <class LabelSpace = LatticeLabels, class Solver = AlphaExpansion<>, class Stitcher = ClipStitcher>
 class Retargeter {
   static_assert(is_label_space_v<LabelSpace>,
@@ -247,6 +265,7 @@ class Retargeter {
              Solver solver = {}, Stitcher stitcher = {})
       : mesh_(&mesh), analysis_(&analysis), options_(options), space_(labels), solver_(solver), stitcher_(stitcher) {
     status_ = detail::guarded("Retargeter", [&]() -> Status {
+      RESTITCH_TRY(set_weld_tolerance());
       RESTITCH_TRY(space_.grid(mesh, analysis, grid_));
       if (std::int64_t(grid_.cells.prod()) > std::int64_t(options_.max_problem_size))
         return error(StatusCode::too_large, "the label grid has " + std::to_string(grid_.cells.prod()) +
@@ -540,6 +559,21 @@ class Retargeter {
                                                                    : SeamMrf(*cells_, k, options_.neighbourhood);
     problem.penalise_inner_ends(grid_.end_low, grid_.end_high);
     return problem;
+  }
+
+  // RetargetOptions::weld_tolerance onto the stitcher.
+  Status set_weld_tolerance() {
+    const double w = options_.weld_tolerance;
+    if (!(w >= 0 && w <= 1e-2))
+      return error(StatusCode::invalid_argument, "the weld tolerance " + format_size(w) +
+                                                     " is outside [0, 0.01] (a fraction of the bounding-box diagonal)");
+    if (w == 0) return {};
+    if constexpr (detail::has_weld_tolerance_v<Stitcher>) {
+      stitcher_.weld_tolerance = w;
+      return {};
+    } else {
+      return error(StatusCode::invalid_argument, "this stitcher has no weld tolerance to set");
+    }
   }
 
   // Every seam of a labelling, measured on the geometry (docs/method.md 2.8): face neighbours with

@@ -170,6 +170,11 @@ cmp -s "$work/shelf-t1.glb" "$work/shelf-t2.glb" && ok || bad "resize: outputs d
 strip_run() { node -e "const j=JSON.parse(require('fs').readFileSync(0,'utf8')); const drop=(o)=>{if(o&&typeof o==='object'){for(const k of Object.keys(o)){if(k==='timings_ms'||k==='matcher'||k==='file')delete o[k];else drop(o[k]);}}}; drop(j); console.log(JSON.stringify(j))"; }
 [ "$(strip_run < "$work/shelf-t1.json")" = "$(strip_run < "$work/shelf-t2.json")" ] && ok || bad "resize --json differs between --threads 1 and 2"
 expect_error 2 "threads" "$bin" analyze "$work/shelf.glb" --threads -1
+# --weld-tolerance: a fraction of the diagonal in [0, 0.01]; out of range it is a usage error (exit 2).
+expect_error 2 "weld-tolerance" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --steps 1 --weld-tolerance 0.5
+[ ! -e "$work/x.glb" ] && ok || bad "a refused --weld-tolerance left a file"
+expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-weld.glb" --steps 1 --weld-tolerance 1e-4 --json "$work/pins-weld.json"
+validate "$work/pins-weld.glb"
 # --detector: the autocorrelation detector finds the shelf's two repeats and says so in the JSON.
 expect 0 "$bin" analyze "$work/shelf.glb" --detector autocorrelation --json "$work/shelf-ac.json"
 [ "$(json_field detector < "$work/shelf-ac.json")" = '"autocorrelation"' ] && ok || bad "analyze --detector: JSON detector field"
