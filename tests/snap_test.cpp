@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include <random>
+#include <vector>
 
 #include "restitch/offsets/snap.hpp"
 
@@ -28,6 +29,29 @@ TEST_CASE("snap: an approximate offset of exactly copied points becomes exact", 
   REQUIRE(r.snapped);
   CHECK((r.offset - t).norm() < 1e-12);
   CHECK(r.pairs == 600u);  // three of four copies have a successor
+}
+
+TEST_CASE("snap: an offset one tessellation step off moves to the one that maps every copied vertex",
+          "[offsets][snap]") {
+  // Four columns 0.4 apart, each a board meshed every 0.025 along z (0 to 0.3) plus a random "book"
+  // (the bookshelf at --detail 4). Started at t + (0, 0, 0.025) (where ICP stopped: the boards still map
+  // onto each other there, 12 of 13 rows), the descent alone stays there; the vertices left unpaired (the
+  // books) vote for the step back, which maps every copied vertex.
+  const Eigen::Vector3d t(0.4, 0, 0);
+  const int columns = 4, rows = 13;
+  std::mt19937_64 rng(5);
+  auto u = [&] { return double(rng() >> 11) * (1.0 / 9007199254740992.0); };
+  std::vector<Eigen::RowVector3d> module;
+  for (int j = 0; j < rows; ++j)
+    for (const double y : {0.0, 0.02, 0.3, 0.32}) module.emplace_back(0.1, y, 0.025 * j);
+  for (int i = 0; i < 60; ++i) module.emplace_back(0.15 + 0.1 * u(), 0.05 + 0.2 * u(), 0.01 + 0.28 * u());
+  Eigen::Matrix<double, Eigen::Dynamic, 3> P(Eigen::Index(module.size()) * columns, 3);
+  for (int c = 0; c < columns; ++c)
+    for (std::size_t i = 0; i < module.size(); ++i) P.row(Eigen::Index(c * module.size() + i)) = module[i] + c * t.transpose();
+  const SnapResult r = snap_offset(P, t + Eigen::Vector3d(0.003, 0, 0.024));
+  REQUIRE(r.snapped);
+  CHECK((r.offset - t).norm() < 1e-12);
+  CHECK(r.pairs == std::size_t(3 * module.size()));
 }
 
 TEST_CASE("snap: copies that are not exact keep the sample-based offset", "[offsets][snap]") {

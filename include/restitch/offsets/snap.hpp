@@ -28,6 +28,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "restitch/detail/cell_hash.hpp"
@@ -63,30 +65,77 @@ inline SnapResult snap_offset(const Eigen::Matrix<double, Eigen::Dynamic, 3>& po
   detail::CellChains grid{std::size_t(n)};
   for (Eigen::Index i = 0; i < n; ++i) grid.insert(cell(points.row(i).transpose()), std::int32_t(i));
 
-  Eigen::Vector3d cur = t;
-  std::size_t pairs = 0;
-  for (double r = options.start_radius; r >= options.end_radius * 0.999; r *= 0.5) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    pairs = 0;
+  // The vertex nearest to q within r (ties: the lower index), or -1.
+  auto nearest = [&](const Eigen::Vector3d& q, double r) {
+    double best = r * r;
+    Eigen::Index hit = -1;
+    // The cells the ball of radius r around q touches (r widened by 1e-9 against rounding):
+    // 27 at r = h, one to eight once r is below h / 2.
     const double reach = r * (1 + 1e-9);
+    const detail::Cell lo = cell((q.array() - reach).matrix()), hi = cell((q.array() + reach).matrix());
+    for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
+      for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
+          grid.for_each(detail::Cell{x, y, z}, [&](std::int32_t j) {
+            const double d2 = (points.row(j).transpose() - q).squaredNorm();
+            if (d2 < best || (d2 == best && hit >= 0 && j < hit)) best = d2, hit = j;
+          });
+    return hit;
+  };
+  // Translation-only ICP of the vertices from `from`, radius halving from r0 down to end_radius: the
+  // offset and its pairs at the last radius (0 pairs when some radius had fewer than min_pairs).
+  auto descend = [&](Eigen::Vector3d cur, double r0) {
+    std::size_t pairs = 0;
+    for (double r = r0; r >= options.end_radius * 0.999; r *= 0.5) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      pairs = 0;
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const Eigen::Index hit = nearest(points.row(i).transpose() + cur, r);
+        if (hit >= 0) sum += points.row(hit).transpose() - points.row(i).transpose(), ++pairs;
+      }
+      if (pairs < options.min_pairs) return std::make_pair(cur, std::size_t(0));
+      cur = sum / double(pairs);
+    }
+    return std::make_pair(cur, pairs);
+  };
+
+  auto [cur, pairs] = descend(t, options.start_radius);
+  if (pairs < options.min_pairs) return result;
+  // A step of the tessellation away. Where copies lie on uniformly tessellated parts (a board meshed every
+  // 0.025 along its depth), the offset one tessellation step off the true one still maps those parts'
+  // vertices exactly, and the descent stays there: ICP's start was within a sample spacing of both. The
+  // true offset maps every copied vertex, so it maps more. So: the vertices left unpaired vote, each with
+  // the vector from its image to the nearest vertex within twice the start radius (binned at twice the end
+  // radius); the descent is run again from the three most voted shifts, and one that ends with more pairs
+  // replaces the offset, until none does (at most 4 rounds).
+  const double wide = 2 * options.start_radius, bin = 2 * options.end_radius;
+  for (int round = 0; round < 4; ++round) {
+    std::map<detail::Cell, std::pair<std::size_t, Eigen::Vector3d>> votes;
     for (Eigen::Index i = 0; i < n; ++i) {
       const Eigen::Vector3d q = points.row(i).transpose() + cur;
-      double best = r * r;
-      Eigen::Index hit = -1;
-      // The cells the ball of radius r around q touches (r widened by 1e-9 against rounding):
-      // 27 at r = h, one to eight once r is below h / 2.
-      const detail::Cell lo = cell((q.array() - reach).matrix()), hi = cell((q.array() + reach).matrix());
-      for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
-        for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
-          for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
-            grid.for_each(detail::Cell{x, y, z}, [&](std::int32_t j) {
-              const double d2 = (points.row(j).transpose() - q).squaredNorm();
-              if (d2 < best || (d2 == best && hit >= 0 && j < hit)) best = d2, hit = j;
-            });
-      if (hit >= 0) sum += points.row(hit).transpose() - points.row(i).transpose(), ++pairs;
+      if (nearest(q, options.end_radius) >= 0) continue;
+      const Eigen::Index hit = nearest(q, wide);
+      if (hit < 0) continue;
+      const Eigen::Vector3d r = points.row(hit).transpose() - q;
+      auto& v = votes[detail::Cell{detail::cell_index(r.x(), bin), detail::cell_index(r.y(), bin),
+                                    detail::cell_index(r.z(), bin)}];
+      if (v.first == 0) v.second = Eigen::Vector3d::Zero();
+      ++v.first;
+      v.second += r;
     }
-    if (pairs < options.min_pairs) return result;
-    cur = sum / double(pairs);
+    std::vector<std::pair<std::size_t, Eigen::Vector3d>> top;  // most votes first; map order breaks ties
+    for (const auto& kv : votes) top.push_back(kv.second);
+    std::stable_sort(top.begin(), top.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    bool moved = false;
+    for (std::size_t k = 0; k < std::min<std::size_t>(3, top.size()); ++k) {
+      if (top[k].first < options.min_pairs) break;
+      const auto [alt, alt_pairs] = descend(cur + top[k].second / double(top[k].first), 4 * bin);
+      if (alt_pairs > pairs) {
+        cur = alt, pairs = alt_pairs, moved = true;
+        break;
+      }
+    }
+    if (!moved) break;
   }
   if (pairs < options.min_pairs || double(pairs) < options.min_share * double(n)) return result;
   result.offset = cur;
