@@ -252,7 +252,8 @@ TEST_CASE("vertex_features merges duplicates and averages face normals by area",
 }
 
 TEST_CASE("vertex_features respects the cap deterministically", "[sampling]") {
-  // A 60 x 60 vertex grid on [-1, 1]^2 (pitch ~0.034), shared vertices.
+  // A 60 x 60 vertex grid on [-1, 1]^2 (pitch ~0.034), shared vertices. Flat: its inner vertices are
+  // shape-neutral, so the cap is tested with keep_flat (the last argument).
   const int g = 60;
   std::vector<Eigen::Vector3f> c;
   std::vector<std::array<int, 3>> t;
@@ -267,22 +268,22 @@ TEST_CASE("vertex_features respects the cap deterministically", "[sampling]") {
   const Mesh grid = make_mesh(c, t);
   const Normalization norm = Normalization::of(restitch::bounding_box(grid));
 
-  auto all = restitch::vertex_features(grid, norm);
+  auto all = restitch::vertex_features(grid, norm, 20000, 0.02, 1, true);
   REQUIRE(all.ok());
   CHECK(all->size() == g * g);
 
   // Spacing 0.1 thins below the cap: a Poisson-disk subset.
-  auto thin = restitch::vertex_features(grid, norm, 1000, 0.1, 5);
+  auto thin = restitch::vertex_features(grid, norm, 1000, 0.1, 5, true);
   REQUIRE(thin.ok());
   CHECK(thin->size() < 1000);
   CHECK(thin->size() > 200);
   CHECK(min_pair_distance_squared(*thin) >= 0.01);
-  auto again = restitch::vertex_features(grid, norm, 1000, 0.1, 5);
+  auto again = restitch::vertex_features(grid, norm, 1000, 0.1, 5, true);
   REQUIRE(again.ok());
   CHECK(again->points == thin->points);
 
   // Spacing below the pitch removes nothing: the strided subset makes exactly `cap`.
-  auto capped = restitch::vertex_features(grid, norm, 500, 0.02, 5);
+  auto capped = restitch::vertex_features(grid, norm, 500, 0.02, 5, true);
   REQUIRE(capped.ok());
   CHECK(capped->size() == 500);
   for (Eigen::Index i = 0; i < capped->size(); ++i) CHECK(capped->normals.row(i) == Eigen::RowVector3f(0, 0, 1));
@@ -296,4 +297,53 @@ TEST_CASE("vertex_features respects the cap deterministically", "[sampling]") {
   REQUIRE(both.size() == thin->size() + capped->size());
   CHECK(both.points.topRows(thin->size()) == thin->points);
   CHECK(both.normals.bottomRows(capped->size()) == capped->normals);
+}
+
+TEST_CASE("vertex_features leaves out shape-neutral vertices: inside flat regions, on closed edges", "[sampling]") {
+  // A 61 x 61 grid on [-1, 1]^2 folded into a roof z = 0.3 |x| (one column of vertices on the ridge x = 0).
+  const int g = 61;
+  auto roof = [&](bool fold) {
+    std::vector<Eigen::Vector3f> c;
+    std::vector<std::array<int, 3>> t;
+    for (int y = 0; y < g; ++y)
+      for (int x = 0; x < g; ++x) {
+        const float u = -1 + 2.0f * x / (g - 1);
+        c.emplace_back(u, -1 + 2.0f * y / (g - 1), fold ? 0.3f * std::abs(u) : 0.0f);
+      }
+    for (int y = 0; y + 1 < g; ++y)
+      for (int x = 0; x + 1 < g; ++x) {
+        const int a = y * g + x;
+        t.push_back({a, a + 1, a + g + 1});
+        t.push_back({a, a + g + 1, a + g});
+      }
+    return make_mesh(c, t);
+  };
+  const Mesh flat = roof(false), folded = roof(true);
+  // Flat: only the open boundary's vertices (their edges are used by one triangle) remain.
+  auto f = restitch::vertex_features(flat, Normalization::of(restitch::bounding_box(flat)));
+  REQUIRE(f.ok());
+  CHECK(f->size() == 4 * (g - 1));
+  // Folded: the boundary and the ridge's inner vertices (two normals meet there); the slopes' inner ones go.
+  auto r = restitch::vertex_features(folded, Normalization::of(restitch::bounding_box(folded)));
+  REQUIRE(r.ok());
+  CHECK(r->size() == 4 * (g - 1) + (g - 2));
+  for (Eigen::Index i = 0; i < r->size(); ++i) {
+    const Eigen::Vector3f p = r->points.row(i);
+    const bool boundary = std::abs(std::abs(p.y()) - 1) < 1e-6f || std::abs(std::abs(p.x()) - 1) < 1e-6f;
+    CHECK((boundary || std::abs(p.x()) < 1e-6f));
+  }
+  // keep_flat: every vertex.
+  auto all = restitch::vertex_features(folded, Normalization::of(restitch::bounding_box(folded)), 20000, 0.02, 1, true);
+  REQUIRE(all.ok());
+  CHECK(all->size() == g * g);
+  // A closed flat-faced solid (the octahedron of the test above, shared vertices): every vertex bends.
+  const Eigen::Vector3f ax[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  std::vector<Eigen::Vector3f> c(ax, ax + 6);
+  std::vector<std::array<int, 3>> t;
+  for (int sx : {0, 1})
+    for (int sy : {2, 3})
+      for (int sz : {4, 5}) t.push_back({sx, sy, sz});
+  auto o = restitch::vertex_features(make_mesh(c, t), identity());
+  REQUIRE(o.ok());
+  CHECK(o->size() == 6);
 }

@@ -156,6 +156,7 @@ struct AnalysisOptions {
   double dense_spacing = 0.02;                    ///< dense Poisson-disk spacing: the descriptor support
   double feature_spacing = 0.06;                  ///< feature Poisson-disk spacing
   std::size_t vertex_cap = 20000;                 ///< at most this many mesh vertices become features (0: none)
+  bool flat_vertex_features = false;  ///< also vertices inside flat regions (shape-neutral; sampling/features.hpp)
   float tau = 0.15f;                              ///< matches must be farther apart than this
   std::uint64_t seed = 1;                         ///< see the header comment
   double min_angle = 3.14159265358979323846 / 3;  ///< between principal offsets
@@ -263,7 +264,8 @@ Status sample_features(const Mesh& mesh, const AnalysisOptions<D, M, Det>& optio
       poisson_disk_sample(mesh, a.normalization, options.feature_spacing, options.seed + 1, progress);
   if (!sampled) return sampled.status();
   Result<PointSet> vertices =
-      vertex_features(mesh, a.normalization, options.vertex_cap, options.dense_spacing, options.seed + 2);
+      vertex_features(mesh, a.normalization, options.vertex_cap, options.dense_spacing, options.seed + 2,
+                      options.flat_vertex_features);
   if (!vertices) return vertices.status();
   a.dense = std::move(*dense);
   a.sampled_features = std::size_t(sampled->size());

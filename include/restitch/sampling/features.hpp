@@ -5,7 +5,7 @@
 // analysis uses features = concat(poisson_disk_sample(..., 0.06, ...),
 // vertex_features(...)).
 //
-//   Result<PointSet> vertex_features(mesh, norm, cap, subsample_spacing, seed)
+//   Result<PointSet> vertex_features(mesh, norm, cap, subsample_spacing, seed, keep_flat = false)
 //   PointSet concat(a, b)
 //
 // vertex_features contract:
@@ -22,6 +22,16 @@
 //     orientation): the unit normal of the largest-area incident triangle
 //     (lowest face index on equal areas); when every incident triangle has
 //     zero area: +Z (0, 0, 1). Normals are never NaN.
+//   * Shape-neutral vertices are not features (unless `keep_flat`): a merged
+//     vertex whose incident triangles all have the same unit normal (within
+//     1e-4) and whose every edge is shared by exactly two triangles (positions
+//     merged) lies inside a flat region; moving it within that region changes
+//     nothing a modeller made. Such vertices exist only because of how the
+//     region was tessellated (a wall or a board meshed every few centimetres),
+//     their descriptors are those of a plane wherever they are, and their
+//     matches vote for the tessellation's own lattice: a facade meshed finely
+//     was analysed along (3.2, 0.2, 0), a wall-grid shift, instead of its bays.
+//     Vertices with a zero-area incident triangle are kept.
 //   * cap: when more than `cap` merged vertices remain, they are thinned by
 //     Poisson-disk elimination at `subsample_spacing`: visited in a seeded
 //     random order (std::mt19937_64(seed), raw output, Fisher-Yates), a
@@ -44,6 +54,7 @@
 #include <cstdint>
 #include <numeric>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "restitch/descriptor/descriptor.hpp"
@@ -133,6 +144,52 @@ inline void representative_normals(const Mesh& mesh, const std::vector<std::uint
   }
 }
 
+/// Marks the shape-neutral representatives (see the top of this header): every incident triangle has
+/// the same unit normal within `tolerance`, none has zero area, and every edge between two of its
+/// positions is used by exactly two triangles.
+inline std::vector<char> shape_neutral(const Mesh& mesh, const std::vector<std::uint32_t>& rep,
+                                       double tolerance = 1e-4) {
+  const std::size_t nv = static_cast<std::size_t>(mesh.V.rows());
+  std::vector<char> neutral(nv, 1), seen(nv, 0);
+  std::vector<Eigen::Vector3d> first(nv, Eigen::Vector3d::Zero());
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  edges.reserve(3 * static_cast<std::size_t>(mesh.F.rows()));
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    std::uint32_t r[3];
+    for (int k = 0; k < 3; ++k) r[k] = rep[mesh.F(f, k)];
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)).transpose().cast<double>();
+    const Eigen::Vector3d b = mesh.V.row(mesh.F(f, 1)).transpose().cast<double>();
+    const Eigen::Vector3d c = mesh.V.row(mesh.F(f, 2)).transpose().cast<double>();
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double len = n.norm();
+    const bool degenerate = !(len > 0) || r[0] == r[1] || r[1] == r[2] || r[0] == r[2];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = r[k];
+      if (degenerate) {
+        neutral[v] = 0;
+        continue;
+      }
+      const Eigen::Vector3d u = n / len;
+      if (!seen[v])
+        seen[v] = 1, first[v] = u;
+      else if ((u - first[v]).norm() > tolerance)
+        neutral[v] = 0;
+    }
+    if (!degenerate)
+      for (int k = 0; k < 3; ++k) edges.emplace_back(std::min(r[k], r[(k + 1) % 3]), std::max(r[k], r[(k + 1) % 3]));
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t e = i + 1;
+    while (e < edges.size() && edges[e] == edges[i]) ++e;
+    if (e - i != 2) neutral[edges[i].first] = neutral[edges[i].second] = 0;  // an open or non-manifold edge
+    i = e;
+  }
+  for (std::size_t v = 0; v < nv; ++v)
+    if (!seen[v]) neutral[v] = 0;
+  return neutral;
+}
+
 /// Thins `reps` (ascending) to at most `cap`: a Poisson-disk pass at `spacing`
 /// in a seeded random order, then an even stride if still over the cap.
 template <class Position>
@@ -170,7 +227,8 @@ Status thin_vertices(std::vector<std::uint32_t>& reps, std::size_t cap, double s
 }  // namespace detail
 
 inline Result<PointSet> vertex_features(const Mesh& mesh, const Normalization& norm, std::size_t cap = 20000,
-                                        double subsample_spacing = 0.02, std::uint64_t seed = 1) {
+                                        double subsample_spacing = 0.02, std::uint64_t seed = 1,
+                                        bool keep_flat = false) {
   if (!(subsample_spacing > 0) || !std::isfinite(subsample_spacing))
     return error(StatusCode::invalid_argument, "the vertex subsampling spacing must be a positive finite number");
   if (mesh.F.rows() == 0) return error(StatusCode::invalid_mesh, "the mesh has no triangles");
@@ -183,9 +241,11 @@ inline Result<PointSet> vertex_features(const Mesh& mesh, const Normalization& n
   RESTITCH_TRY(detail::merge_equal_positions(mesh, rep, order));
   std::vector<Eigen::Vector3d> sum, best_normal;
   detail::representative_normals(mesh, rep, sum, best_normal);
+  std::vector<char> neutral;
+  if (!keep_flat) neutral = detail::shape_neutral(mesh, rep);
   std::vector<std::uint32_t> reps;
   for (std::uint32_t v : order)
-    if (rep[v] == v) reps.push_back(v);
+    if (rep[v] == v && (keep_flat || !neutral[v])) reps.push_back(v);
   std::sort(reps.begin(), reps.end());
 
   auto position = [&](std::uint32_t v) { return norm.to_normalized(mesh.V.row(v).transpose().cast<double>()); };
