@@ -299,7 +299,7 @@ TEST_CASE("vertex_features respects the cap deterministically", "[sampling]") {
   CHECK(both.normals.bottomRows(capped->size()) == capped->normals);
 }
 
-TEST_CASE("vertex_features leaves out shape-neutral vertices: inside flat regions, on closed edges", "[sampling]") {
+TEST_CASE("vertex_features leaves out shape-neutral vertices: inside flat regions and straight edges", "[sampling]") {
   // A 61 x 61 grid on [-1, 1]^2 folded into a roof z = 0.3 |x| (one column of vertices on the ridge x = 0).
   const int g = 61;
   auto roof = [&](bool fold) {
@@ -319,19 +319,26 @@ TEST_CASE("vertex_features leaves out shape-neutral vertices: inside flat region
     return make_mesh(c, t);
   };
   const Mesh flat = roof(false), folded = roof(true);
-  // Flat: only the open boundary's vertices (their edges are used by one triangle) remain.
+  // Flat: inside the square and along its straight open edges every vertex is neutral; the 4 corners stay.
   auto f = restitch::vertex_features(flat, Normalization::of(restitch::bounding_box(flat)));
   REQUIRE(f.ok());
-  CHECK(f->size() == 4 * (g - 1));
-  // Folded: the boundary and the ridge's inner vertices (two normals meet there); the slopes' inner ones go.
+  CHECK(f->size() == 4);
+  // Folded: the ridge is a straight crease, neutral inside too; its two ends (a crease meeting the open
+  // edge) and the 4 corners stay.
   auto r = restitch::vertex_features(folded, Normalization::of(restitch::bounding_box(folded)));
   REQUIRE(r.ok());
-  CHECK(r->size() == 4 * (g - 1) + (g - 2));
+  CHECK(r->size() == 6);
   for (Eigen::Index i = 0; i < r->size(); ++i) {
     const Eigen::Vector3f p = r->points.row(i);
-    const bool boundary = std::abs(std::abs(p.y()) - 1) < 1e-6f || std::abs(std::abs(p.x()) - 1) < 1e-6f;
-    CHECK((boundary || std::abs(p.x()) < 1e-6f));
+    CHECK(std::abs(std::abs(p.y()) - 1) < 1e-6f);  // on the open edges y = +-1
+    CHECK((std::abs(p.x()) < 1e-6f || std::abs(std::abs(p.x()) - 1) < 1e-6f));
   }
+  // A bent line is no straight crease: fold the ridge's middle vertex up, and it and its neighbours stay.
+  Mesh kinked = folded;
+  kinked.V(((g - 1) / 2) * g + (g - 1) / 2, 2) += 0.05f;
+  auto k = restitch::vertex_features(kinked, Normalization::of(restitch::bounding_box(kinked)));
+  REQUIRE(k.ok());
+  CHECK(k->size() > 6);
   // keep_flat: every vertex.
   auto all = restitch::vertex_features(folded, Normalization::of(restitch::bounding_box(folded)), 20000, 0.02, 1, true);
   REQUIRE(all.ok());

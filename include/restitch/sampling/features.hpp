@@ -23,15 +23,18 @@
 //     (lowest face index on equal areas); when every incident triangle has
 //     zero area: +Z (0, 0, 1). Normals are never NaN.
 //   * Shape-neutral vertices are not features (unless `keep_flat`): a merged
-//     vertex whose incident triangles all have the same unit normal (within
-//     1e-4) and whose every edge is shared by exactly two triangles (positions
-//     merged) lies inside a flat region; moving it within that region changes
-//     nothing a modeller made. Such vertices exist only because of how the
-//     region was tessellated (a wall or a board meshed every few centimetres),
-//     their descriptors are those of a plane wherever they are, and their
-//     matches vote for the tessellation's own lattice: a facade meshed finely
-//     was analysed along (3.2, 0.2, 0), a wall-grid shift, instead of its bays.
-//     Vertices with a zero-area incident triangle are kept.
+//     vertex inside a flat region (every incident triangle with the same unit
+//     normal, within 1e-4, and every edge shared by two of them), or inside a
+//     straight crease or straight open edge (two normals at most, and exactly
+//     two such feature edges, collinear and opposite); moving it along its
+//     region or line changes nothing a modeller made. Such vertices exist only
+//     because of how the region was tessellated (a wall or a board meshed
+//     every few centimetres), their descriptors are those of a plane or a
+//     straight edge wherever they are, and their matches vote for the
+//     tessellation's own lattice: a facade meshed finely was analysed along
+//     (3.2, 0.2, 0), a wall-grid shift, instead of its bays, and a fence's
+//     pickets meshed along their height gave a false repeat along y. Vertices
+//     with a zero-area incident triangle are kept.
 //   * cap: when more than `cap` merged vertices remain, they are thinned by
 //     Poisson-disk elimination at `subsample_spacing`: visited in a seeded
 //     random order (std::mt19937_64(seed), raw output, Fisher-Yates), a
@@ -144,16 +147,24 @@ inline void representative_normals(const Mesh& mesh, const std::vector<std::uint
   }
 }
 
-/// Marks the shape-neutral representatives (see the top of this header): every incident triangle has
-/// the same unit normal within `tolerance`, none has zero area, and every edge between two of its
-/// positions is used by exactly two triangles.
+/// Marks the shape-neutral representatives (see the top of this header). A vertex's feature edges are
+/// its edges not shared by exactly two triangles of the same unit normal (within `tolerance`): open,
+/// non-manifold and crease edges. Neutral: no zero-area incident triangle, at most two distinct incident
+/// normals, and either no feature edge (inside a flat region) or exactly two, collinear and opposite
+/// (inside a straight crease or a straight open edge).
 inline std::vector<char> shape_neutral(const Mesh& mesh, const std::vector<std::uint32_t>& rep,
                                        double tolerance = 1e-4) {
   const std::size_t nv = static_cast<std::size_t>(mesh.V.rows());
-  std::vector<char> neutral(nv, 1), seen(nv, 0);
-  std::vector<Eigen::Vector3d> first(nv, Eigen::Vector3d::Zero());
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
-  edges.reserve(3 * static_cast<std::size_t>(mesh.F.rows()));
+  std::vector<char> neutral(nv, 1), normals(nv, 0);  // normals: distinct incident normals seen (capped at 3)
+  std::vector<Eigen::Vector3d> n1(nv, Eigen::Vector3d::Zero()), n2(nv, Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3d> unit(static_cast<std::size_t>(mesh.F.rows()), Eigen::Vector3d::Zero());
+  struct Side {
+    std::uint32_t a, b;  // a < b
+    std::uint32_t face;
+    bool operator<(const Side& o) const { return a != o.a ? a < o.a : b != o.b ? b < o.b : face < o.face; }
+  };
+  std::vector<Side> sides;
+  sides.reserve(3 * static_cast<std::size_t>(mesh.F.rows()));
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
     std::uint32_t r[3];
     for (int k = 0; k < 3; ++k) r[k] = rep[mesh.F(f, k)];
@@ -162,31 +173,51 @@ inline std::vector<char> shape_neutral(const Mesh& mesh, const std::vector<std::
     const Eigen::Vector3d c = mesh.V.row(mesh.F(f, 2)).transpose().cast<double>();
     const Eigen::Vector3d n = (b - a).cross(c - a);
     const double len = n.norm();
-    const bool degenerate = !(len > 0) || r[0] == r[1] || r[1] == r[2] || r[0] == r[2];
+    if (!(len > 0) || r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) {
+      for (int k = 0; k < 3; ++k) neutral[r[k]] = 0;
+      continue;
+    }
+    const Eigen::Vector3d u = n / len;
+    unit[std::size_t(f)] = u;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t v = r[k];
-      if (degenerate) {
-        neutral[v] = 0;
-        continue;
+      if (normals[v] == 0)
+        normals[v] = 1, n1[v] = u;
+      else if ((u - n1[v]).norm() > tolerance) {
+        if (normals[v] == 1)
+          normals[v] = 2, n2[v] = u;
+        else if (normals[v] == 2 && (u - n2[v]).norm() > tolerance)
+          normals[v] = 3;
       }
-      const Eigen::Vector3d u = n / len;
-      if (!seen[v])
-        seen[v] = 1, first[v] = u;
-      else if ((u - first[v]).norm() > tolerance)
-        neutral[v] = 0;
+      sides.push_back(Side{std::min(r[k], r[(k + 1) % 3]), std::max(r[k], r[(k + 1) % 3]), std::uint32_t(f)});
     }
-    if (!degenerate)
-      for (int k = 0; k < 3; ++k) edges.emplace_back(std::min(r[k], r[(k + 1) % 3]), std::max(r[k], r[(k + 1) % 3]));
   }
-  std::sort(edges.begin(), edges.end());
-  for (std::size_t i = 0; i < edges.size();) {
+  std::sort(sides.begin(), sides.end());
+  std::vector<char> feature_edges(nv, 0);  // capped at 3
+  std::vector<Eigen::Vector3d> dir1(nv, Eigen::Vector3d::Zero()), dir2(nv, Eigen::Vector3d::Zero());
+  auto position = [&](std::uint32_t v) { return Eigen::Vector3d(mesh.V.row(v).transpose().cast<double>()); };
+  auto add_feature = [&](std::uint32_t v, std::uint32_t w) {
+    const Eigen::Vector3d d = (position(w) - position(v)).normalized();
+    if (feature_edges[v] == 0) dir1[v] = d;
+    if (feature_edges[v] == 1) dir2[v] = d;
+    if (feature_edges[v] < 3) ++feature_edges[v];
+  };
+  for (std::size_t i = 0; i < sides.size();) {
     std::size_t e = i + 1;
-    while (e < edges.size() && edges[e] == edges[i]) ++e;
-    if (e - i != 2) neutral[edges[i].first] = neutral[edges[i].second] = 0;  // an open or non-manifold edge
+    while (e < sides.size() && sides[e].a == sides[i].a && sides[e].b == sides[i].b) ++e;
+    const bool smooth = e - i == 2 && (unit[sides[i].face] - unit[sides[i + 1].face]).norm() <= tolerance;
+    if (!smooth) add_feature(sides[i].a, sides[i].b), add_feature(sides[i].b, sides[i].a);
     i = e;
   }
-  for (std::size_t v = 0; v < nv; ++v)
-    if (!seen[v]) neutral[v] = 0;
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (!neutral[v]) continue;
+    if (normals[v] == 0 || normals[v] > 2)
+      neutral[v] = 0;
+    else if (feature_edges[v] == 0)
+      neutral[v] = normals[v] == 1;
+    else
+      neutral[v] = feature_edges[v] == 2 && dir1[v].dot(dir2[v]) < -1 + 0.5 * tolerance * tolerance;
+  }
   return neutral;
 }
 
