@@ -251,13 +251,17 @@ class Session {
     if (!input_ || !analysis_) return status_object(error(StatusCode::invalid_argument, "analyse the model first"));
     if (analysis_->principal.empty())
       return status_object(error(StatusCode::no_repetition, "no principal offset: nothing to prepare"));
+    const AnyRetargeter* before = retargeter_.get();
     if (Status s = ensure_retargeter(label_space, *energy); !s) return status_object(s);
-    // Warm-up: one resize per principal offset (+1 along it) and its conversion to JS, thrown away. The
-    // first call of a code path in a fresh WebAssembly instance runs it cold (the browser compiles functions on
-    // their first call, in a baseline tier, and optimises hot ones later): in Chromium the first resize took
-    // 43-59 ms of the library's time against 1-8 ms for the same work later. Its result and the session's
-    // last result are independent (the retargeter's caches are caches), so nothing the page sees changes.
-    for (std::size_t i = 0; i < std::min<std::size_t>(analysis_->principal.size(), 3); ++i) {
+    // Warm-up, once per retargeter built (a prepare that keeps the current one has nothing to warm): one
+    // resize per principal offset (+1 along it) and its conversion to JS, thrown away. The first call of a
+    // code path in a fresh WebAssembly instance runs it cold (the browser compiles functions on their first
+    // call, in a baseline tier, and optimises hot ones later): in Chromium the first resize took 43-59 ms of
+    // the library's time against 1-8 ms for the same work later. Its result and the session's last result
+    // are independent (the retargeter's caches are caches), so nothing the page sees changes.
+    const bool built = retargeter_.get() != before;
+    const std::size_t warm_axes = built ? std::min<std::size_t>(analysis_->principal.size(), 3) : 0;
+    for (std::size_t i = 0; i < warm_axes; ++i) {
       std::vector<int> principal_steps{0, 0, 0};
       principal_steps[i] = 1;
       Result<Eigen::Array3i> warm_steps = lattice_steps_from_principal(*analysis_, principal_steps);

@@ -9,8 +9,8 @@
 // Usage: node demo_web/tests/measure.mjs [PATTERN] [QUERY] [--native RESTITCH] [--json FILE]
 //   e.g. `fence matcher=brute_force` (QUERY: the page's URL parameters, to pick other policies).
 //   --native: also analyses each model with that native `restitch` binary, one thread and the page's policies
-//   (`analyze --threads 1` with the same descriptor, matcher and detector), run before the page so the two never
-//   share the cores, and prints page / native over the sum of the analysis stages (the same stages, timed
+//   (`analyze --threads 1` with the same descriptor, matcher and detector), run after the page's work on that
+//   model (its resizes too) so the two never share the cores, and prints page / native over the sum of the analysis stages (the same stages, timed
 //   the same way on both sides). --json: writes every figure to FILE.
 import fs from 'node:fs';
 import os from 'node:os';

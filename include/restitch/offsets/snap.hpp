@@ -20,8 +20,12 @@
 // vertices (different tessellations), and the sample-based offset stands.
 //
 // All lengths are in the units of the points given (the analysis passes
-// normalized coordinates). Cost: O(#V) hash-grid look-ups per iteration (27
-// cells per vertex at the first radius, 1 to 8 from the second on), about 12 iterations. Deterministic.
+// normalized coordinates). Then one step of the tessellation away is tried
+// (the vertices left unpaired vote for a shift; see snap_offset). Cost: O(#V)
+// hash-grid look-ups per iteration (27 cells per vertex at the first radius, 1
+// to 8 from the second on), 10 iterations at the defaults, plus, when some
+// vertices stay unpaired, one voting pass (27 cells of a coarser grid) and 3
+// more iterations. Deterministic.
 #pragma once
 
 #include <Eigen/Core>
@@ -104,17 +108,37 @@ inline SnapResult snap_offset(const Eigen::Matrix<double, Eigen::Dynamic, 3>& po
   // A step of the tessellation away. Where copies lie on uniformly tessellated parts (a board meshed every
   // 0.025 along its depth), the offset one tessellation step off the true one still maps those parts'
   // vertices exactly, and the descent stays there: ICP's start was within a sample spacing of both. The
-  // true offset maps every copied vertex, so it maps more. So: the vertices left unpaired vote, each with
-  // the vector from its image to the nearest vertex within twice the start radius (binned at twice the end
-  // radius); the descent is run again from the three most voted shifts, and one that ends with more pairs
-  // replaces the offset, until none does (at most 4 rounds).
+  // true offset maps every copied vertex, so it maps more. So, once: the vertices left unpaired at the
+  // last radius vote, each with the vector from its image to the nearest vertex within twice the start
+  // radius (binned at twice the end radius); the descent runs again from the most voted shift, from the
+  // radius 2^-7 of the start one (so it ends at the same last radius as the first descent and the pair
+  // counts compare), and replaces the offset when it ends with more pairs and within twice the start
+  // radius of t. Cost: one pass over the vertices with a query in a grid of cells that wide (27 cells),
+  // and three more descent passes when some vertices voted.
+  double last = options.start_radius;
+  while (last * 0.5 >= options.end_radius * 0.999) last *= 0.5;
   const double wide = 2 * options.start_radius, bin = 2 * options.end_radius;
-  for (int round = 0; round < 4; ++round) {
+  if (pairs < std::size_t(n)) {
+    auto wide_cell = [wide](const Eigen::Vector3d& p) {
+      return detail::Cell{detail::cell_index(p.x(), wide), detail::cell_index(p.y(), wide),
+                          detail::cell_index(p.z(), wide)};
+    };
+    detail::CellChains coarse{std::size_t(n)};
+    for (Eigen::Index i = 0; i < n; ++i) coarse.insert(wide_cell(points.row(i).transpose()), std::int32_t(i));
     std::map<detail::Cell, std::pair<std::size_t, Eigen::Vector3d>> votes;
     for (Eigen::Index i = 0; i < n; ++i) {
       const Eigen::Vector3d q = points.row(i).transpose() + cur;
-      if (nearest(q, options.end_radius) >= 0) continue;
-      const Eigen::Index hit = nearest(q, wide);
+      if (nearest(q, last) >= 0) continue;
+      double best = wide * wide;
+      Eigen::Index hit = -1;
+      const detail::Cell c = wide_cell(q);
+      for (std::int64_t z = c[2] - 1; z <= c[2] + 1; ++z)
+        for (std::int64_t y = c[1] - 1; y <= c[1] + 1; ++y)
+          for (std::int64_t x = c[0] - 1; x <= c[0] + 1; ++x)
+            coarse.for_each(detail::Cell{x, y, z}, [&](std::int32_t j) {
+              const double d2 = (points.row(j).transpose() - q).squaredNorm();
+              if (d2 < best || (d2 == best && hit >= 0 && j < hit)) best = d2, hit = j;
+            });
       if (hit < 0) continue;
       const Eigen::Vector3d r = points.row(hit).transpose() - q;
       auto& v = votes[detail::Cell{detail::cell_index(r.x(), bin), detail::cell_index(r.y(), bin),
@@ -123,19 +147,13 @@ inline SnapResult snap_offset(const Eigen::Matrix<double, Eigen::Dynamic, 3>& po
       ++v.first;
       v.second += r;
     }
-    std::vector<std::pair<std::size_t, Eigen::Vector3d>> top;  // most votes first; map order breaks ties
-    for (const auto& kv : votes) top.push_back(kv.second);
-    std::stable_sort(top.begin(), top.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-    bool moved = false;
-    for (std::size_t k = 0; k < std::min<std::size_t>(3, top.size()); ++k) {
-      if (top[k].first < options.min_pairs) break;
-      const auto [alt, alt_pairs] = descend(cur + top[k].second / double(top[k].first), 4 * bin);
-      if (alt_pairs > pairs) {
-        cur = alt, pairs = alt_pairs, moved = true;
-        break;
-      }
+    const std::pair<std::size_t, Eigen::Vector3d>* top = nullptr;  // most votes; map order breaks ties
+    for (const auto& kv : votes)
+      if (!top || kv.second.first > top->first) top = &kv.second;
+    if (top && top->first >= options.min_pairs) {
+      const auto [alt, alt_pairs] = descend(cur + top->second / double(top->first), last * 4);
+      if (alt_pairs > pairs && (alt - t).norm() <= wide) cur = alt, pairs = alt_pairs;
     }
-    if (!moved) break;
   }
   if (pairs < options.min_pairs || double(pairs) < options.min_share * double(n)) return result;
   result.offset = cur;
