@@ -339,6 +339,28 @@ TEST_CASE("vertex_features leaves out shape-neutral vertices: inside flat region
   auto k = restitch::vertex_features(kinked, Normalization::of(restitch::bounding_box(kinked)));
   REQUIRE(k.ok());
   CHECK(k->size() > 6);
+  // The same square flat-shaded (every triangle with its own three vertices, as glTF exports often are):
+  // positions merge first, so the same 4 corners remain; a zero-area triangle's vertex is kept.
+  {
+    std::vector<Eigen::Vector3f> c;
+    std::vector<std::array<int, 3>> t;
+    for (Eigen::Index f = 0; f < flat.F.rows(); ++f) {
+      const int base = int(c.size());
+      for (int k = 0; k < 3; ++k) c.push_back(flat.V.row(flat.F(f, k)).transpose());
+      t.push_back({base, base + 1, base + 2});
+    }
+    const Mesh split = make_mesh(c, t);
+    auto sf = restitch::vertex_features(split, Normalization::of(restitch::bounding_box(split)));
+    REQUIRE(sf.ok());
+    CHECK(sf->size() == 4);
+    const int centre = (g / 2) * g + g / 2;  // an inner vertex of the shared grid
+    Mesh sliver = flat;
+    sliver.F.conservativeResize(sliver.F.rows() + 1, 3);
+    sliver.F.row(sliver.F.rows() - 1) << std::uint32_t(centre), std::uint32_t(centre + 1), std::uint32_t(centre + 2);
+    auto zf = restitch::vertex_features(sliver, Normalization::of(restitch::bounding_box(sliver)));
+    REQUIRE(zf.ok());
+    CHECK(zf->size() == 4 + 3);  // the collinear triangle's three corners stay
+  }
   // keep_flat: every vertex.
   auto all = restitch::vertex_features(folded, Normalization::of(restitch::bounding_box(folded)), 20000, 0.02, 1, true);
   REQUIRE(all.ok());
