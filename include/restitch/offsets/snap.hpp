@@ -69,24 +69,25 @@ inline SnapResult snap_offset(const Eigen::Matrix<double, Eigen::Dynamic, 3>& po
   detail::CellChains grid{std::size_t(n)};
   for (Eigen::Index i = 0; i < n; ++i) grid.insert(cell(points.row(i).transpose()), std::int32_t(i));
 
-  // The vertex nearest to q within r (ties: the lower index), or -1.
-  auto nearest = [&](const Eigen::Vector3d& q, double r) {
+  // The vertex nearest to q within r (ties: the lower index), or -1, in a grid `g` of cells `cell_of` makes.
+  // It looks at the cells the ball of radius r around q touches (r widened by 1e-9 against rounding): 27 at r
+  // = the cell size, one to eight once r is below half of it.
+  auto nearest_in = [&](const detail::CellChains& g, const auto& cell_of, const Eigen::Vector3d& q, double r) {
     double best = r * r;
     Eigen::Index hit = -1;
-    // The cells the ball of radius r around q touches (r widened by 1e-9 against rounding):
-    // 27 at r = h, one to eight once r is below h / 2.
     const double reach = r * (1 + 1e-9);
-    const detail::Cell lo = cell((q.array() - reach).matrix()), hi = cell((q.array() + reach).matrix());
+    const detail::Cell lo = cell_of((q.array() - reach).matrix()), hi = cell_of((q.array() + reach).matrix());
     for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
       for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
         for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
-          grid.for_each(detail::Cell{x, y, z}, [&](std::int32_t j) {
+          g.for_each(detail::Cell{x, y, z}, [&](std::int32_t j) {
             const double d2 = (points.row(j).transpose() - q).squaredNorm();
             if (d2 < best || (d2 == best && hit >= 0 && j < hit)) best = d2, hit = j;
           });
     return hit;
   };
-  // Translation-only ICP of the vertices from `from`, radius halving from r0 down to end_radius: the
+  auto nearest = [&](const Eigen::Vector3d& q, double r) { return nearest_in(grid, cell, q, r); };
+  // Translation-only ICP of the vertices from `cur`, radius halving from r0 down to end_radius: the
   // offset and its pairs at the last radius (0 pairs when some radius had fewer than min_pairs).
   auto descend = [&](Eigen::Vector3d cur, double r0) {
     std::size_t pairs = 0;
@@ -129,16 +130,7 @@ inline SnapResult snap_offset(const Eigen::Matrix<double, Eigen::Dynamic, 3>& po
     for (Eigen::Index i = 0; i < n; ++i) {
       const Eigen::Vector3d q = points.row(i).transpose() + cur;
       if (nearest(q, last) >= 0) continue;
-      double best = wide * wide;
-      Eigen::Index hit = -1;
-      const detail::Cell c = wide_cell(q);
-      for (std::int64_t z = c[2] - 1; z <= c[2] + 1; ++z)
-        for (std::int64_t y = c[1] - 1; y <= c[1] + 1; ++y)
-          for (std::int64_t x = c[0] - 1; x <= c[0] + 1; ++x)
-            coarse.for_each(detail::Cell{x, y, z}, [&](std::int32_t j) {
-              const double d2 = (points.row(j).transpose() - q).squaredNorm();
-              if (d2 < best || (d2 == best && hit >= 0 && j < hit)) best = d2, hit = j;
-            });
+      const Eigen::Index hit = nearest_in(coarse, wide_cell, q, wide);
       if (hit < 0) continue;
       const Eigen::Vector3d r = points.row(hit).transpose() - q;
       auto& v = votes[detail::Cell{detail::cell_index(r.x(), bin), detail::cell_index(r.y(), bin),
