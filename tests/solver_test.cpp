@@ -1,4 +1,4 @@
-// Tests of restitch/solver: BkMaxFlow against an Edmonds-Karp oracle,
+// Tests of restitch/solver: BkMaxFlow and PushRelabelMaxFlow against an Edmonds-Karp oracle,
 // alpha-expansion against exhaustive search and its guarantees, check_metric,
 // and the MRF file format.
 #include <catch2/catch.hpp>
@@ -16,11 +16,13 @@
 
 #include "restitch/solver/alpha_expansion.hpp"
 #include "restitch/solver/max_flow_bk.hpp"
+#include "restitch/solver/max_flow_push_relabel.hpp"
 #include "restitch/solver/mrf.hpp"
 #include "restitch/solver/mrf_io.hpp"
 
 using restitch::AlphaExpansion;
 using restitch::BkMaxFlow;
+using restitch::PushRelabelMaxFlow;
 using restitch::SolveReport;
 using restitch::StatusCode;
 using restitch::TableMrf;
@@ -143,8 +145,8 @@ GraphSpec random_graph(Rng& rng, bool integral) {
 }
 
 // Original capacity of the cut (S = in_source_segment) of graph g.
-template <class Cap>
-Cap cut_capacity(const GraphSpec& g, const BkMaxFlow<Cap>& mf) {
+template <class Cap, class MaxFlow>
+Cap cut_capacity(const GraphSpec& g, const MaxFlow& mf) {
   Cap c = 0;
   for (const auto& t : g.tw) c += mf.in_source_segment(t.i) ? Cap(t.t) : Cap(t.s);
   for (const auto& e : g.edges) {
@@ -155,10 +157,10 @@ Cap cut_capacity(const GraphSpec& g, const BkMaxFlow<Cap>& mf) {
   return c;
 }
 
-template <class Cap>
+template <class Cap, template <class> class MaxFlow = BkMaxFlow>
 void check_against_oracle(std::uint64_t seed, int graphs) {
   Rng rng(seed);
-  BkMaxFlow<Cap> mf;  // one object, reused through reset()
+  MaxFlow<Cap> mf;  // one object, reused through reset()
   for (int k = 0; k < graphs; ++k) {
     const GraphSpec g = random_graph(rng, true);
     mf.reset(g.n, static_cast<int>(g.edges.size()));
@@ -176,7 +178,7 @@ void check_against_oracle(std::uint64_t seed, int graphs) {
     const Cap expected = ek.max_flow();
     INFO("graph " << k << " nodes " << g.n);
     REQUIRE(flow == expected);
-    CHECK(cut_capacity(g, mf) == flow);
+    CHECK(cut_capacity<Cap>(g, mf) == flow);
     // The contract fixes the cut: exactly the nodes reachable from the source.
     const std::vector<char> reach = ek.reachable();
     for (int i = 0; i < g.n; ++i) REQUIRE(mf.in_source_segment(i) == (reach[static_cast<std::size_t>(i)] != 0));
@@ -191,6 +193,9 @@ void check_against_oracle(std::uint64_t seed, int graphs) {
 TEST_CASE("solver: contracts are detected", "[solver]") {
   STATIC_REQUIRE(restitch::is_max_flow_v<BkMaxFlow<double>>);
   STATIC_REQUIRE(restitch::is_max_flow_v<BkMaxFlow<std::int64_t>>);
+  STATIC_REQUIRE(restitch::is_max_flow_v<PushRelabelMaxFlow<double>>);
+  STATIC_REQUIRE(restitch::is_max_flow_v<PushRelabelMaxFlow<std::int64_t>>);
+  STATIC_REQUIRE(restitch::has_sink_segment_v<PushRelabelMaxFlow<double>>);
   STATIC_REQUIRE_FALSE(restitch::is_max_flow_v<int>);
   STATIC_REQUIRE_FALSE(restitch::is_max_flow_v<TableMrf>);
   STATIC_REQUIRE(restitch::is_labelling_problem_v<TableMrf>);
@@ -199,11 +204,15 @@ TEST_CASE("solver: contracts are detected", "[solver]") {
   STATIC_REQUIRE_FALSE(restitch::is_graph_solver_v<TableMrf>);
 }
 
-TEST_CASE("solver: BkMaxFlow on a known network", "[solver]") {
+namespace {
+
+// Cormen et al.'s example network and a node with both terminal capacities, on back end MF.
+template <template <class> class MF>
+void check_known_network() {
   // Cormen et al.'s example network: maximum flow 23.
   // s -> 0 (16), s -> 1 (13), 0 -> 2 (12), 1 -> 0 (4), 1 -> 3 (14),
   // 2 -> 1 (9), 3 -> 2 (7), 2 -> t (20), 3 -> t (4).
-  BkMaxFlow<std::int64_t> mf;
+  MF<std::int64_t> mf;
   mf.reset(4, 5);
   mf.add_node(4);
   mf.add_tweights(0, 16, 0);
@@ -224,7 +233,7 @@ TEST_CASE("solver: BkMaxFlow on a known network", "[solver]") {
 
   // A node with both terminal capacities passes min(s, t) directly; a node
   // no path reaches is on the sink side.
-  BkMaxFlow<double> g;
+  MF<double> g;
   g.add_node(3);
   g.add_tweights(0, 5, 3);
   g.add_tweights(0, 1, 4);  // adds: s 6, t 7
@@ -235,18 +244,10 @@ TEST_CASE("solver: BkMaxFlow on a known network", "[solver]") {
   CHECK_FALSE(g.in_source_segment(2));
 }
 
-TEST_CASE("solver: BkMaxFlow equals Edmonds-Karp on random graphs (int64)", "[solver]") {
-  check_against_oracle<std::int64_t>(0x5eed0001, 400);
-}
-
-TEST_CASE("solver: BkMaxFlow equals Edmonds-Karp on random graphs (double)", "[solver]") {
-  // Integer-valued doubles: every sum is exact, so flow and cut must match exactly.
-  check_against_oracle<double>(0x5eed0002, 400);
-}
-
-TEST_CASE("solver: BkMaxFlow with fractional capacities gives a minimum cut", "[solver]") {
-  Rng rng(0x5eed0003);
-  BkMaxFlow<double> mf;
+template <template <class> class MF>
+void check_fractional(std::uint64_t seed) {
+  Rng rng(seed);
+  MF<double> mf;
   for (int k = 0; k < 300; ++k) {
     const GraphSpec g = random_graph(rng, false);
     mf.reset();
@@ -265,15 +266,17 @@ TEST_CASE("solver: BkMaxFlow with fractional capacities gives a minimum cut", "[
     const double flow = mf.max_flow();
     INFO("graph " << k);
     REQUIRE(flow == Approx(ek.max_flow()).margin(1e-12 * total));
-    CHECK(cut_capacity(g, mf) == Approx(flow).margin(1e-12 * total));
+    CHECK(cut_capacity<double>(g, mf) == Approx(flow).margin(1e-12 * total));
   }
 }
 
-TEST_CASE("solver: BkMaxFlow continues after more edges are added", "[solver]") {
-  Rng rng(0x5eed0004);
+// max_flow(), more edges and terminal capacities, max_flow() again: the flow of the whole graph.
+template <template <class> class MF>
+void check_continues(std::uint64_t seed) {
+  Rng rng(seed);
   for (int k = 0; k < 100; ++k) {
     const GraphSpec g = random_graph(rng, true);
-    BkMaxFlow<std::int64_t> mf;
+    MF<std::int64_t> mf;
     EdmondsKarp<std::int64_t> ek(g.n);
     mf.add_node(g.n);
     const std::size_t half = g.edges.size() / 2;
@@ -290,13 +293,16 @@ TEST_CASE("solver: BkMaxFlow continues after more edges are added", "[solver]") 
     ek.add_tweights(0, 3, 2);
     for (const auto& e : g.edges) ek.add_edge(e.i, e.j, std::int64_t(e.c), std::int64_t(e.r));
     REQUIRE(mf.max_flow() == ek.max_flow());
+    const std::vector<char> reach = ek.reachable();
+    for (int i = 0; i < g.n; ++i) REQUIRE(mf.in_source_segment(i) == (reach[static_cast<std::size_t>(i)] != 0));
   }
 }
 
-TEST_CASE("solver: BkMaxFlow handles long paths without recursion", "[solver]") {
-  // A chain of 200 000 nodes: deep trees, one augmenting path.
+// A chain of 200 000 nodes: one long augmenting path (deep search trees; long label ranges).
+template <template <class> class MF>
+void check_long_chain() {
   const int n = 200000;
-  BkMaxFlow<std::int64_t> mf(n, n);
+  MF<std::int64_t> mf(n, n);
   mf.add_node(n);
   mf.add_tweights(0, 7, 0);
   mf.add_tweights(n - 1, 0, 9);
@@ -304,6 +310,90 @@ TEST_CASE("solver: BkMaxFlow handles long paths without recursion", "[solver]") 
   CHECK(mf.max_flow() == 5);
   CHECK(mf.in_source_segment(n / 2));
   CHECK_FALSE(mf.in_source_segment(n / 2 + 1));
+  CHECK(mf.in_sink_segment(n / 2 + 1));
+  CHECK_FALSE(mf.in_sink_segment(n / 2));
+}
+
+}  // namespace
+
+TEST_CASE("solver: max-flow back ends on a known network", "[solver]") {
+  SECTION("BkMaxFlow") { check_known_network<BkMaxFlow>(); }
+  SECTION("PushRelabelMaxFlow") { check_known_network<PushRelabelMaxFlow>(); }
+}
+
+TEST_CASE("solver: BkMaxFlow equals Edmonds-Karp on random graphs (int64)", "[solver]") {
+  check_against_oracle<std::int64_t>(0x5eed0001, 400);
+}
+
+TEST_CASE("solver: BkMaxFlow equals Edmonds-Karp on random graphs (double)", "[solver]") {
+  // Integer-valued doubles: every sum is exact, so flow and cut must match exactly.
+  check_against_oracle<double>(0x5eed0002, 400);
+}
+
+TEST_CASE("solver: PushRelabelMaxFlow equals Edmonds-Karp on random graphs", "[solver]") {
+  // The same flow and the same two segments (both fixed by the contract), exactly.
+  check_against_oracle<std::int64_t, PushRelabelMaxFlow>(0x5eed0011, 400);
+  check_against_oracle<double, PushRelabelMaxFlow>(0x5eed0012, 400);
+}
+
+TEST_CASE("solver: PushRelabelMaxFlow equals BkMaxFlow on 26-neighbourhood grids", "[solver]") {
+  // Graphs the size of expansion moves, where global relabelling runs many times: the same flow and the
+  // same segments as BkMaxFlow (itself checked against Edmonds-Karp above), exactly (integer capacities).
+  Rng rng(0x5eed0015);
+  PushRelabelMaxFlow<std::int64_t> pr;
+  BkMaxFlow<std::int64_t> bk;
+  int both_sides = 0;  // grids where both segments are non-empty
+  for (int k = 0; k < 12; ++k) {
+    const int side = 4 + k % 5, n = side * side * side;
+    pr.reset(n, 13 * n);
+    bk.reset(n, 13 * n);
+    pr.add_node(n);
+    bk.add_node(n);
+    for (int i = 0; i < n; ++i) {
+      const std::int64_t s = rng.chance(0.5) ? rng.uniform_int(0, 40) : 0, t = rng.chance(0.5) ? rng.uniform_int(0, 40) : 0;
+      pr.add_tweights(i, s, t);
+      bk.add_tweights(i, s, t);
+    }
+    auto id = [side](int x, int y, int z) { return x + side * (y + side * z); };
+    for (int z = 0; z < side; ++z)
+      for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x)
+          for (int d = 1; d < 27; ++d) {
+            const int dx = d % 3 - 1, dy = d / 3 % 3 - 1, dz = d / 9 - 1;
+            if (!(dz > 0 || (dz == 0 && (dy > 0 || (dy == 0 && dx > 0))))) continue;
+            const int X = x + dx, Y = y + dy, Z = z + dz;
+            if (X < 0 || X >= side || Y < 0 || Y >= side || Z < 0 || Z >= side) continue;
+            const std::int64_t c = rng.uniform_int(0, 9), r = rng.chance(0.5) ? 0 : rng.uniform_int(0, 9);
+            pr.add_edge(id(x, y, z), id(X, Y, Z), c, r);
+            bk.add_edge(id(x, y, z), id(X, Y, Z), c, r);
+          }
+    INFO("grid " << k << " side " << side);
+    REQUIRE(pr.max_flow() == bk.max_flow());
+    int source_side = 0, sink_side = 0;
+    for (int i = 0; i < n; ++i) {
+      REQUIRE(pr.in_source_segment(i) == bk.in_source_segment(i));
+      REQUIRE(pr.in_sink_segment(i) == bk.in_sink_segment(i));
+      source_side += pr.in_source_segment(i);
+      sink_side += pr.in_sink_segment(i);
+    }
+    both_sides += source_side > 0 && sink_side > 0;
+  }
+  CHECK(both_sides >= 8);  // the comparisons are not about trivial cuts
+}
+
+TEST_CASE("solver: max-flow back ends with fractional capacities give a minimum cut", "[solver]") {
+  SECTION("BkMaxFlow") { check_fractional<BkMaxFlow>(0x5eed0003); }
+  SECTION("PushRelabelMaxFlow") { check_fractional<PushRelabelMaxFlow>(0x5eed0013); }
+}
+
+TEST_CASE("solver: max-flow back ends solve again after more edges are added", "[solver]") {
+  SECTION("BkMaxFlow") { check_continues<BkMaxFlow>(0x5eed0004); }
+  SECTION("PushRelabelMaxFlow") { check_continues<PushRelabelMaxFlow>(0x5eed0014); }
+}
+
+TEST_CASE("solver: max-flow back ends handle long paths without recursion", "[solver]") {
+  SECTION("BkMaxFlow") { check_long_chain<BkMaxFlow>(); }
+  SECTION("PushRelabelMaxFlow") { check_long_chain<PushRelabelMaxFlow>(); }
 }
 
 // ---------------------------------------------------------------------------
@@ -638,7 +728,7 @@ struct Grid26Problem {
 
 TEST_CASE("solver: alpha-expansion moves do not depend on the max-flow back end", "[solver]") {
   // The back-end contract fixes the cut (the smallest source side), so with
-  // exact (integer) terms BkMaxFlow and the Edmonds-Karp oracle must give the
+  // exact (integer) terms BkMaxFlow, PushRelabelMaxFlow and the Edmonds-Karp oracle must give the
   // same moves, the same labels and the same energy.
   Rng rng(0x5eed0107);
   for (int k = 0; k < 4; ++k) {
@@ -646,14 +736,18 @@ TEST_CASE("solver: alpha-expansion moves do not depend on the max-flow back end"
     REQUIRE(p.edge_count() == 3 * 3 * 16 + 2 * 3 * 3 * 3 * 4 + 4 * 27);  // faces + edge and corner diagonals
     std::vector<int> initial(64);
     for (int& l : initial) l = rng.uniform_int(0, p.m - 1);
-    std::vector<int> bk = initial, ek = initial;
-    SolveReport rb, re;
-    REQUIRE(AlphaExpansion<>().solve(p, bk, rb, restitch::Progress()).ok());
+    std::vector<int> bk = initial, ek = initial, pr = initial;
+    SolveReport rb, re, rp;
+    REQUIRE(AlphaExpansion<BkMaxFlow<double>>().solve(p, bk, rb, restitch::Progress()).ok());
     REQUIRE(AlphaExpansion<EdmondsKarpBackEnd>().solve(p, ek, re, restitch::Progress()).ok());
+    REQUIRE(AlphaExpansion<PushRelabelMaxFlow<double>>().solve(p, pr, rp, restitch::Progress()).ok());
     INFO("problem " << k);
     CHECK(bk == ek);
+    CHECK(pr == ek);
     CHECK(rb.energy == re.energy);
+    CHECK(rp.energy == re.energy);
     CHECK(rb.expansions == re.expansions);
+    CHECK(rp.expansions == re.expansions);
     CHECK(rb.moves_accepted == re.moves_accepted);
     CHECK(rb.moves_accepted > 0);
     CHECK(rb.energy < rb.initial_energy);

@@ -20,7 +20,7 @@
 // build may replace: descriptor (ShotDescriptor, FpfhDescriptor), matcher
 // (BruteForceMatcher, ReducedMatcher), offset detector
 // (HistogramOffsetDetector, AutocorrelationOffsetDetector), label space (LatticeLabels, RegularLabels),
-// max-flow back end (BkMaxFlow), graph solver (AlphaExpansion) and stitcher
+// max-flow back end (PushRelabelMaxFlow, the default; BkMaxFlow), graph solver (AlphaExpansion) and stitcher
 // (ClipStitcher). Each contract is documented in its header and checked by a
 // static_assert at the entry point. No call throws; each returns a Status or
 // a Result.
@@ -48,5 +48,6 @@
 #include "restitch/runtime.hpp"
 #include "restitch/solver/alpha_expansion.hpp"
 #include "restitch/solver/max_flow_bk.hpp"
+#include "restitch/solver/max_flow_push_relabel.hpp"
 #include "restitch/solver/mrf.hpp"
 #include "restitch/stitch/stitch.hpp"

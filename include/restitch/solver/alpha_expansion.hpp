@@ -3,7 +3,7 @@
 //
 // Satisfies the solver policy contract of restitch/solver/mrf.hpp:
 //
-//   restitch::AlphaExpansion<> solver;            // BkMaxFlow<double> inside
+//   restitch::AlphaExpansion<> solver;            // PushRelabelMaxFlow<double> inside
 //   restitch::SolveReport report;
 //   std::vector<int> labels(problem.node_count(), 0);  // initial labelling
 //   restitch::Status s = solver.solve(problem, labels, report, progress);
@@ -70,6 +70,7 @@
 
 #include "restitch/progress.hpp"
 #include "restitch/solver/max_flow_bk.hpp"
+#include "restitch/solver/max_flow_push_relabel.hpp"
 #include "restitch/solver/mrf.hpp"
 #include "restitch/status.hpp"
 
@@ -282,7 +283,7 @@ class ExpansionRun {
 }  // namespace detail
 
 /// Alpha-expansion solver policy; see the top of this file.
-template <class MaxFlow = BkMaxFlow<double>>
+template <class MaxFlow = PushRelabelMaxFlow<double>>
 class AlphaExpansion {
   static_assert(is_max_flow_v<MaxFlow>,
                 "AlphaExpansion<MaxFlow>: MaxFlow does not satisfy the max-flow back-end contract "
@@ -302,7 +303,7 @@ class AlphaExpansion {
   int max_cycles = 100;
   /// Which minimum cut an expansion takes when several have the same cost: false (default), the one that
   /// moves fewest nodes (a node that could go either way keeps its label); true, the one that moves most
-  /// (it takes alpha, as gco-v3.0 does). Needs a back end with in_sink_segment (BkMaxFlow has it); with
+  /// (it takes alpha, as gco-v3.0 does). Needs a back end with in_sink_segment (both of restitch's have it); with
   /// one that lacks it, solve() refuses (invalid_argument).
   bool ties_to_alpha = false;
   MoveObserver on_move;
