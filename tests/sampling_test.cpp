@@ -361,6 +361,33 @@ TEST_CASE("vertex_features leaves out shape-neutral vertices: inside flat region
     REQUIRE(zf.ok());
     CHECK(zf->size() == 4 + 3);  // the collinear triangle's three corners stay
   }
+  // Two coincident sheets facing opposite ways (a board resting on another, vertices at the same
+  // positions): the flat square plus a reversed copy of the grid's vertex range [lo, hi]^2 with its own
+  // vertices. Inside the overlap every edge has two faces along +z and two along -z: neutral. The copy's
+  // straight sides lying on the square are neutral too; its 4 corners and the square's stay.
+  auto double_sheet = [&](int lo, int hi) {
+    std::vector<Eigen::Vector3f> c;
+    std::vector<std::array<int, 3>> t;
+    for (Eigen::Index v = 0; v < flat.V.rows(); ++v) c.push_back(flat.V.row(v).transpose());
+    for (Eigen::Index f = 0; f < flat.F.rows(); ++f) t.push_back({int(flat.F(f, 0)), int(flat.F(f, 1)), int(flat.F(f, 2))});
+    const int base = int(c.size()), w = hi - lo + 1;
+    for (int y = lo; y <= hi; ++y)
+      for (int x = lo; x <= hi; ++x) c.push_back(flat.V.row(y * g + x).transpose());
+    for (int y = 0; y + 1 < w; ++y)
+      for (int x = 0; x + 1 < w; ++x) {
+        const int a = base + y * w + x;
+        t.push_back({a, a + w + 1, a + 1});  // reversed winding: normal -z
+        t.push_back({a, a + w, a + w + 1});
+      }
+    return make_mesh(c, t);
+  };
+  const Mesh both = double_sheet(0, g - 1), board = double_sheet(10, 40);
+  auto bf = restitch::vertex_features(both, Normalization::of(restitch::bounding_box(both)));
+  REQUIRE(bf.ok());
+  CHECK(bf->size() == 4);
+  auto of = restitch::vertex_features(board, Normalization::of(restitch::bounding_box(board)));
+  REQUIRE(of.ok());
+  CHECK(of->size() == 4 + 4);
   // keep_flat: every vertex.
   auto all = restitch::vertex_features(folded, Normalization::of(restitch::bounding_box(folded)), 20000, 0.02, 1, true);
   REQUIRE(all.ok());

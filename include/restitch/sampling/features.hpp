@@ -24,7 +24,10 @@
 //     zero area: +Z (0, 0, 1). Normals are never NaN.
 //   * Shape-neutral vertices are not features (unless `keep_flat`): a merged
 //     vertex inside a flat region (every incident triangle with the same unit
-//     normal, within 1e-4, and every edge shared by two of them), or inside a
+//     normal, within 1e-4, and every edge shared by two of them), inside two
+//     coincident flat regions facing opposite ways (a board resting on
+//     another with vertices at the same positions: normals u and -u, every
+//     edge shared by two faces along u and two along -u), or inside a
 //     straight crease or straight open edge (two normals at most, and exactly
 //     two such feature edges, collinear and opposite); moving it along its
 //     region or line changes nothing a modeller made. Such vertices exist only
@@ -148,9 +151,10 @@ inline void representative_normals(const Mesh& mesh, const std::vector<std::uint
 }
 
 /// Marks the shape-neutral representatives (see the top of this header). A vertex's feature edges are
-/// its edges not shared by exactly two triangles of the same unit normal (within `tolerance`): open,
-/// non-manifold and crease edges. Neutral: no zero-area incident triangle, at most two distinct incident
-/// normals, and either no feature edge (inside a flat region) or exactly two, collinear and opposite
+/// its edges not shared by exactly two triangles of the same unit normal (within `tolerance`), nor by
+/// four, two along some u and two along -u (two coincident sheets): open, non-manifold and crease edges.
+/// Neutral: no zero-area incident triangle, at most two distinct incident normals, and either no feature
+/// edge (inside a flat region: one normal, or two opposite ones) or exactly two, collinear and opposite
 /// (inside a straight crease or a straight open edge).
 inline std::vector<char> shape_neutral(const Mesh& mesh, const std::vector<std::uint32_t>& rep,
                                        double tolerance = 1e-4) {
@@ -205,7 +209,19 @@ inline std::vector<char> shape_neutral(const Mesh& mesh, const std::vector<std::
   for (std::size_t i = 0; i < sides.size();) {
     std::size_t e = i + 1;
     while (e < sides.size() && sides[e].a == sides[i].a && sides[e].b == sides[i].b) ++e;
-    const bool smooth = e - i == 2 && (unit[sides[i].face] - unit[sides[i + 1].face]).norm() <= tolerance;
+    bool smooth = false;
+    if (e - i == 2) {
+      smooth = (unit[sides[i].face] - unit[sides[i + 1].face]).norm() <= tolerance;
+    } else if (e - i == 4) {  // two coincident sheets facing opposite ways: two faces along u, two along -u
+      const Eigen::Vector3d& u = unit[sides[i].face];
+      int along = 0, against = 0;
+      for (std::size_t k = i; k < e; ++k) {
+        const Eigen::Vector3d& w = unit[sides[k].face];
+        along += (w - u).norm() <= tolerance;
+        against += (w + u).norm() <= tolerance;
+      }
+      smooth = along == 2 && against == 2;
+    }
     if (!smooth) add_feature(sides[i].a, sides[i].b), add_feature(sides[i].b, sides[i].a);
     i = e;
   }
@@ -213,8 +229,8 @@ inline std::vector<char> shape_neutral(const Mesh& mesh, const std::vector<std::
     if (!neutral[v]) continue;
     if (normals[v] == 0 || normals[v] > 2)
       neutral[v] = 0;
-    else if (feature_edges[v] == 0)
-      neutral[v] = normals[v] == 1;
+    else if (feature_edges[v] == 0)  // one sheet, or two coincident ones facing opposite ways
+      neutral[v] = normals[v] == 1 || (n1[v] + n2[v]).norm() <= tolerance;
     else
       neutral[v] = feature_edges[v] == 2 && dir1[v].dot(dir2[v]) < -1 + 0.5 * tolerance * tolerance;
   }
