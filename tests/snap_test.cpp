@@ -31,6 +31,24 @@ TEST_CASE("snap: an approximate offset of exactly copied points becomes exact", 
   CHECK(r.pairs == 600u);  // three of four copies have a successor
 }
 
+TEST_CASE("snap: above max_queries an even stride of the vertices looks for partners", "[offsets][snap]") {
+  // 4 copies of 200 points, in copy order: the last copy's points have no successor. Queried by 100
+  // (every 8th point), 75 of them do; the offset is as exact as with all 800.
+  const Eigen::Vector3d t(0.25, 0.0625, -0.03125);
+  const auto P = repeated(200, 4, t, 7);
+  SnapOptions few;
+  few.max_queries = 100;
+  const SnapResult r = snap_offset(P, t + Eigen::Vector3d(0.006, -0.004, 0.003), few);
+  REQUIRE(r.snapped);
+  CHECK((r.offset - t).norm() < 1e-12);
+  CHECK(r.pairs == 75u);
+  // The share is of the querying points: 75 of 100 pass a share of 0.7 (75 of 800 would not).
+  few.min_share = 0.7;
+  CHECK(snap_offset(P, t + Eigen::Vector3d(0.006, -0.004, 0.003), few).snapped);
+  few.max_queries = 0;  // 0: every point queries
+  CHECK(snap_offset(P, t, few).pairs == 600u);
+}
+
 TEST_CASE("snap: an offset one tessellation step off moves to the one that maps every copied vertex",
           "[offsets][snap]") {
   // Four columns 0.4 apart, each a board meshed every 0.025 along z (0 to 0.3) plus a random "book"
