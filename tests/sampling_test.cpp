@@ -388,6 +388,26 @@ TEST_CASE("vertex_features leaves out shape-neutral vertices: inside flat region
   auto of = restitch::vertex_features(board, Normalization::of(restitch::bounding_box(board)));
   REQUIRE(of.ok());
   CHECK(of->size() == 4 + 4);
+  // But four faces along +-z on ONE side of an edge are a stack ending there, not two sheets passing
+  // through: a double-sided triangle card stacked twice keeps its 3 corners.
+  {
+    std::vector<Eigen::Vector3f> c;
+    std::vector<std::array<int, 3>> t;
+    for (int copy = 0; copy < 4; ++copy) {
+      const int base = int(c.size());
+      c.emplace_back(0.0f, 0.0f, 0.0f);
+      c.emplace_back(1.0f, 0.0f, 0.0f);
+      c.emplace_back(0.0f, 1.0f, 0.0f);
+      if (copy % 2 == 0)
+        t.push_back({base, base + 1, base + 2});
+      else
+        t.push_back({base, base + 2, base + 1});
+    }
+    const Mesh stack = make_mesh(c, t);
+    auto sf = restitch::vertex_features(stack, Normalization::of(restitch::bounding_box(stack)));
+    REQUIRE(sf.ok());
+    CHECK(sf->size() == 3);
+  }
   // keep_flat: every vertex.
   auto all = restitch::vertex_features(folded, Normalization::of(restitch::bounding_box(folded)), 20000, 0.02, 1, true);
   REQUIRE(all.ok());

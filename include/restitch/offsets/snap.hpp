@@ -50,7 +50,9 @@ struct SnapOptions {
   double min_share = 0.05;
   /// At most this many vertices look for a partner (an even stride of the points, in their order; every
   /// point can be a partner); 0: all. Exact pairs fix the offset to float precision whatever their number,
-  /// and on a 1M-triangle mesh (500k vertices) one snap took 1.5 s. Below the bound nothing changes.
+  /// and on a 1M-triangle mesh (500k vertices) one snap took 1.5 s. Below the bound nothing changes; above
+  /// it min_pairs counts among the queries, so a repeat of fewer than about min_pairs x #points /
+  /// max_queries copied vertices (60 of 500k) no longer snaps.
   std::size_t max_queries = 65536;
 };
 

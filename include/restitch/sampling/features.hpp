@@ -27,7 +27,8 @@
 //     normal, within 1e-4, and every edge shared by two of them), inside two
 //     coincident flat regions facing opposite ways (a board resting on
 //     another with vertices at the same positions: normals u and -u, every
-//     edge shared by two faces along u and two along -u), or inside a
+//     edge either inside one of them or shared by two faces along u and two
+//     along -u, one of each pair on either side of the edge), or inside a
 //     straight crease or straight open edge (two normals at most, and exactly
 //     two such feature edges, collinear and opposite); moving it along its
 //     region or line changes nothing a modeller made. Such vertices exist only
@@ -152,7 +153,8 @@ inline void representative_normals(const Mesh& mesh, const std::vector<std::uint
 
 /// Marks the shape-neutral representatives (see the top of this header). A vertex's feature edges are
 /// its edges not shared by exactly two triangles of the same unit normal (within `tolerance`), nor by
-/// four, two along some u and two along -u (two coincident sheets): open, non-manifold and crease edges.
+/// four, two along some u and two along -u with one of each pair on either side of the edge (two
+/// coincident sheets passing through it): open, non-manifold and crease edges.
 /// Neutral: no zero-area incident triangle, at most two distinct incident normals, and either no feature
 /// edge (inside a flat region: one normal, or two opposite ones) or exactly two, collinear and opposite
 /// (inside a straight crease or a straight open edge).
@@ -212,15 +214,25 @@ inline std::vector<char> shape_neutral(const Mesh& mesh, const std::vector<std::
     bool smooth = false;
     if (e - i == 2) {
       smooth = (unit[sides[i].face] - unit[sides[i + 1].face]).norm() <= tolerance;
-    } else if (e - i == 4) {  // two coincident sheets facing opposite ways: two faces along u, two along -u
+    } else if (e - i == 4) {
+      // Two coincident sheets facing opposite ways pass through the edge: two faces along u and two along
+      // -u, and of each pair one on either side of the edge (a stack of cards ending at the edge, or a
+      // sheet folded back onto itself, has all four on one side).
       const Eigen::Vector3d& u = unit[sides[i].face];
-      int along = 0, against = 0;
+      const Eigen::Vector3d pa = position(sides[i].a), across = u.cross(position(sides[i].b) - pa);
+      int along[2] = {0, 0}, against[2] = {0, 0};  // by side of the edge
       for (std::size_t k = i; k < e; ++k) {
-        const Eigen::Vector3d& w = unit[sides[k].face];
-        along += (w - u).norm() <= tolerance;
-        against += (w + u).norm() <= tolerance;
+        const std::size_t f = sides[k].face;
+        std::uint32_t third = 0;
+        for (int c = 0; c < 3; ++c)
+          if (rep[mesh.F(Eigen::Index(f), c)] != sides[i].a && rep[mesh.F(Eigen::Index(f), c)] != sides[i].b)
+            third = mesh.F(Eigen::Index(f), c);
+        const int side = (position(third) - pa).dot(across) > 0 ? 1 : 0;
+        const Eigen::Vector3d& w = unit[f];
+        if ((w - u).norm() <= tolerance) ++along[side];
+        if ((w + u).norm() <= tolerance) ++against[side];
       }
-      smooth = along == 2 && against == 2;
+      smooth = along[0] == 1 && along[1] == 1 && against[0] == 1 && against[1] == 1;
     }
     if (!smooth) add_feature(sides[i].a, sides[i].b), add_feature(sides[i].b, sides[i].a);
     i = e;

@@ -124,6 +124,46 @@ struct has_sink_segment<T, std::void_t<decltype(std::declval<const T&>().in_sink
 template <class T>
 inline constexpr bool has_sink_segment_v = detail::has_sink_segment<T>::value;
 
+namespace detail {
+
+/// Adds terminal capacities to a node's signed residual `r` (> 0: from the source, < 0: to the sink) and
+/// returns what can flow source -> node -> sink directly, which a back end counts as flow at once.
+template <class Cap>
+Cap fold_terminal(Cap& r, Cap cap_source, Cap cap_sink) {
+  if (r > 0)
+    cap_source += r;
+  else
+    cap_sink -= r;
+  r = cap_source - cap_sink;
+  return std::min(cap_source, cap_sink);
+}
+
+/// Lays the two arcs of every edge out grouped by tail node (a counting sort; within a node in edge
+/// order): node i's arcs are arcs[first[i]] .. arcs[first[i + 1] - 1], each {head, sister, residual}
+/// starting at the edge's cap (i -> j) or rev_cap (j -> i). `placed(edge, arc_ij, arc_ji)` is told where
+/// each edge's arcs went. `cursor` is scratch. Cost O(n + E).
+template <class Edge, class Arc, class Placed>
+void lay_out_arcs(std::size_t n, std::vector<Edge>& edges, std::vector<int>& first, std::vector<int>& cursor,
+                  std::vector<Arc>& arcs, Placed&& placed) {
+  first.assign(n + 1, 0);
+  for (const Edge& e : edges) {
+    ++first[static_cast<std::size_t>(e.i) + 1];
+    ++first[static_cast<std::size_t>(e.j) + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
+  arcs.resize(2 * edges.size());
+  cursor.assign(first.begin(), first.end() - 1);
+  for (Edge& e : edges) {
+    const int a = cursor[static_cast<std::size_t>(e.i)]++;
+    const int b = cursor[static_cast<std::size_t>(e.j)]++;
+    arcs[static_cast<std::size_t>(a)] = Arc{e.j, b, e.cap};
+    arcs[static_cast<std::size_t>(b)] = Arc{e.i, a, e.rev_cap};
+    placed(e, a, b);
+  }
+}
+
+}  // namespace detail
+
 /// Boykov-Kolmogorov max-flow / min-cut. See the top of this file.
 template <class Cap = double>
 class BkMaxFlow {
@@ -177,13 +217,7 @@ class BkMaxFlow {
     RESTITCH_ASSERT(cap_source >= 0 && cap_sink >= 0, "BkMaxFlow::add_tweights: capacities must be >= 0");
     // The node keeps only the residual difference; what could flow
     // source -> i -> sink directly is counted as flow now.
-    const Cap r = nodes_[i].terminal_cap;
-    if (r > 0)
-      cap_source += r;
-    else
-      cap_sink -= r;
-    flow_ += std::min(cap_source, cap_sink);
-    nodes_[i].terminal_cap = cap_source - cap_sink;
+    flow_ += detail::fold_terminal(nodes_[i].terminal_cap, cap_source, cap_sink);
     solved_ = false;
   }
 
@@ -284,22 +318,10 @@ class BkMaxFlow {
           e.cap = arcs_[static_cast<std::size_t>(e.arc_ij)].r_cap;
           e.rev_cap = arcs_[static_cast<std::size_t>(e.arc_ji)].r_cap;
         }
-    first_.assign(static_cast<std::size_t>(n) + 1, 0);
-    for (const Edge& e : edges_) {
-      ++first_[static_cast<std::size_t>(e.i) + 1];
-      ++first_[static_cast<std::size_t>(e.j) + 1];
-    }
-    for (int i = 0; i < n; ++i) first_[static_cast<std::size_t>(i) + 1] += first_[static_cast<std::size_t>(i)];
-    arcs_.resize(2 * edges_.size());
-    cursor_.assign(first_.begin(), first_.end() - 1);
-    for (Edge& e : edges_) {
-      const int a = cursor_[static_cast<std::size_t>(e.i)]++;
-      const int b = cursor_[static_cast<std::size_t>(e.j)]++;
-      arcs_[static_cast<std::size_t>(a)] = Arc{e.j, b, e.cap};
-      arcs_[static_cast<std::size_t>(b)] = Arc{e.i, a, e.rev_cap};
+    detail::lay_out_arcs(static_cast<std::size_t>(n), edges_, first_, cursor_, arcs_, [](Edge& e, int a, int b) {
       e.arc_ij = a;
       e.arc_ji = b;
-    }
+    });
     built_ = true;
   }
 
