@@ -291,34 +291,30 @@ class PushRelabelMaxFlow {
     }
   }
 
-  // The two segments: forward search from the source's residual arcs, backward from the sink's.
+  // The two segments. Source side: a forward search from the source's residual arcs. Sink side: the nodes
+  // global relabelling towards the sink finds a residual path from (its backward search).
   void mark_segments() {
     const std::size_t n = terminal_.size();
     segment_.assign(n, 0);
-    auto search = [&](unsigned char side) {
-      queue_.clear();
-      for (std::size_t v = 0; v < n; ++v) {
-        const bool seed = side == kSourceSide ? on_source_[v] < terminal_[v] : to_sink_[v] > 0;
-        if (seed) {
-          segment_[v] |= side;
-          queue_.push_back(static_cast<int>(v));
-        }
+    queue_.clear();
+    for (std::size_t v = 0; v < n; ++v)
+      if (on_source_[v] < terminal_[v]) {
+        segment_[v] = kSourceSide;
+        queue_.push_back(static_cast<int>(v));
       }
-      for (std::size_t k = 0; k < queue_.size(); ++k) {
-        const std::size_t w = static_cast<std::size_t>(queue_[k]);
-        for (int a = first_[w]; a < first_[w + 1]; ++a) {
-          const Arc& arc = arcs_[static_cast<std::size_t>(a)];
-          const std::size_t u = static_cast<std::size_t>(arc.head);
-          // Forward: w -> u has residual. Backward: u -> w (the sister arc) has residual.
-          const Cap r = side == kSourceSide ? arc.r_cap : arcs_[static_cast<std::size_t>(arc.sister)].r_cap;
-          if ((segment_[u] & side) || !(r > 0)) continue;
-          segment_[u] |= side;
-          queue_.push_back(static_cast<int>(u));
-        }
+    for (std::size_t k = 0; k < queue_.size(); ++k) {
+      const std::size_t w = static_cast<std::size_t>(queue_[k]);
+      for (int a = first_[w]; a < first_[w + 1]; ++a) {
+        const Arc& arc = arcs_[static_cast<std::size_t>(a)];
+        const std::size_t u = static_cast<std::size_t>(arc.head);
+        if (segment_[u] || !(arc.r_cap > 0)) continue;
+        segment_[u] = kSourceSide;
+        queue_.push_back(static_cast<int>(u));
       }
-    };
-    search(kSourceSide);
-    search(kSinkSide);
+    }
+    global_relabel(to_sink_);
+    for (std::size_t v = 0; v < n; ++v)
+      if (label_[v] <= node_count()) segment_[v] |= kSinkSide;
   }
 
   std::vector<Cap> terminal_;  // per node: > 0 capacity from the source, < 0 to the sink (net)
