@@ -152,6 +152,8 @@ TEST_CASE("retarget_json: keys and values of a hand-made report", "[json]") {
   r.boundary_edges_counted = true;
   r.boundary_edges_in = 11;
   r.boundary_edges_out = 13;
+  r.weld_tolerance = 8e-6;
+  r.weld_tolerance_measured = true;
   r.regions = 6;
   r.size_in = {1, 2, 3};
   r.size_out = {1.5, 2, 2.25};
@@ -193,6 +195,8 @@ TEST_CASE("retarget_json: keys and values of a hand-made report", "[json]") {
   CHECK(j["output"]["triangles"].get<std::size_t>() == 777);
   CHECK(j["boundary_edges"]["in"].get<std::size_t>() == 11);
   CHECK(j["boundary_edges"]["out"].get<std::size_t>() == 13);
+  CHECK(j["weld_tolerance"]["relative"].get<double>() == 8e-6);
+  CHECK(j["weld_tolerance"]["measured"].get<bool>());
   CHECK(json::parse(j.dump()) == j);
 }
 

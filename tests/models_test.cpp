@@ -13,6 +13,7 @@
 #include "restitch/restitch.hpp"
 #include "support/mesh_builders.hpp"
 #include "support/projection_gaps.hpp"
+#include "support/surface_distance.hpp"
 
 using namespace restitch;
 
@@ -131,6 +132,51 @@ TEST_CASE("models: the listed repeats longer than tau are found, and resizing al
       const Eigen::Vector3d axis = a->principal_model_units()[0];
       const double slack = 1e-6 * bounding_box(*mesh).size().norm();
       CHECK(test::widest_projection_gap(out->mesh, axis) <= test::widest_projection_gap(*mesh, axis) + slack);
+    }
+  }
+}
+
+TEST_CASE("models: the weld tolerance is measured from the copies: the BlendSwap fence's pickets pair at 4e-6 of "
+          "the diagonal and its -1 closes at 8e-6; exact copies keep 1e-6",
+          "[models][slow]") {
+  if (!shared_models_present()) {
+    WARN("../shared/models is absent: real-model checks skipped");
+    return;
+  }
+  struct Case {
+    const char* file;
+    double tolerance;  // measured (docs/method.md 3); 1e-6: exact copies, not raised
+  };
+  for (const Case& c : {Case{"blendswap-cc0_fence.glb", 8e-6}, Case{"scopia_garage-door.glb", 6.4e-5},
+                        Case{"blendswap-cc0_pallet.glb", 1e-6}, Case{"blendswap-cc0_radiator.glb", 1e-6}}) {
+    INFO(c.file);
+    auto [mesh, a] = load_and_analyze(c.file);
+    RetargetOptions options;
+    options.boundary_edges = true;
+    Retargeter<> measured(mesh, a, options);
+    options.measure_weld_tolerance = false;
+    Retargeter<> fixed(mesh, a, options);
+    for (const int k : {2, -1}) {
+      INFO("steps " << k);
+      auto steps = lattice_steps_from_principal(a, {k});
+      REQUIRE(steps.ok());
+      auto m = measured.retarget(*steps);
+      auto f = fixed.retarget(*steps);
+      REQUIRE(m.ok());
+      REQUIRE(f.ok());
+      CHECK(m->report.weld_tolerance == c.tolerance);
+      CHECK(m->report.weld_tolerance_measured == (c.tolerance > 1e-6));
+      CHECK(f->report.weld_tolerance == 1e-6);
+      if (c.tolerance > 1e-6) {
+        CHECK(m->report.boundary_edges_out < f->report.boundary_edges_out);  // fence 220 -> 194, 117 -> 0
+        CHECK(test::symmetric_surface_distance(m->mesh, f->mesh, 0.01 * bounding_box(mesh).size().norm()) <=
+              c.tolerance * bounding_box(mesh).size().norm());
+      } else {
+        CHECK(m->report.boundary_edges_out == f->report.boundary_edges_out);
+        CHECK(m->mesh.V == f->mesh.V);  // nothing raised: the same output
+        CHECK(m->mesh.F == f->mesh.F);
+      }
+      if (c.tolerance == 8e-6 && k == -1) CHECK(m->report.boundary_edges_out == 0);
     }
   }
 }

@@ -137,7 +137,9 @@ TEST_CASE("retarget: copies that differ by less than the weld tolerance are weld
   // The closed 4-pin header with every vertex moved by up to 1e-5 of the diagonal per coordinate (a
   // deterministic function of its position): the input stays closed (indexed), but copies meeting at a seam differ by up
   // to 2 sqrt(3) 1e-5 = 3.5e-5 of the diagonal. Stitched with the clean model's analysis (so only the
-  // weld differs): open at the default 1e-6, closed at 1e-4 (RetargetOptions::weld_tolerance).
+  // weld differs): open at the stitcher's 1e-6, closed at 1e-4 (RetargetOptions::weld_tolerance), and
+  // closed by default, where the copies' precision is measured (RetargetOptions::measure_weld_tolerance):
+  // their vertex pairs all lie within 6.4e-5, and within it the tolerance is measured.
   auto s = families::generate("pin_header", {{"pins", 4}, {"closed", 1}});
   REQUIRE(s.ok());
   auto a = analyze(s->mesh);
@@ -155,9 +157,25 @@ TEST_CASE("retarget: copies that differ by less than the weld tolerance are weld
     INFO("steps " << k);
     RetargetOptions options;
     options.boundary_edges = true;
+    options.measure_weld_tolerance = false;
     auto open = Retargeter<>(noisy, p.analysis, options).retarget(steps_along(p, 0, k));
     REQUIRE(open.ok());
     CHECK(open->report.boundary_edges_out > 0);
+    CHECK(open->report.weld_tolerance == 1e-6);
+    CHECK(!open->report.weld_tolerance_measured);
+    options.measure_weld_tolerance = true;
+    auto measured = Retargeter<>(noisy, p.analysis, options).retarget(steps_along(p, 0, k));
+    REQUIRE(measured.ok());
+    CHECK(measured->report.weld_tolerance_measured);
+    CHECK(measured->report.weld_tolerance > 2 * std::sqrt(3.0) * 1e-5);
+    CHECK(measured->report.weld_tolerance <= 6.4e-5);
+    CHECK(measured->report.boundary_edges_out == 0);
+    // The clean model's copies are exact: the stitcher's own tolerance stays.
+    auto clean = Retargeter<>(p.sample.mesh, p.analysis, options).retarget(steps_along(p, 0, k));
+    REQUIRE(clean.ok());
+    CHECK(clean->report.weld_tolerance == 1e-6);
+    CHECK(!clean->report.weld_tolerance_measured);
+    CHECK(clean->report.boundary_edges_out == 0);
     options.weld_tolerance = 1e-4;
     auto closed = Retargeter<>(noisy, p.analysis, options).retarget(steps_along(p, 0, k));
     REQUIRE(closed.ok());

@@ -140,3 +140,74 @@ TEST_CASE("snap: the grid's cell range gives exactly the brute-force answer", "[
     CHECK(grid.offset == brute.offset);
   }
 }
+
+TEST_CASE("repeat_precision: exact copies keep the base, copies off by a known distance give the rung past it, "
+          "no repeat keeps the base; shares equal a brute-force count",
+          "[offsets][snap]") {
+  const Eigen::Vector3d t(0.25, 0.0625, -0.03125);
+  auto P = repeated(300, 4, t, 11);
+  Eigen::Vector3d lo = P.colwise().minCoeff().transpose(), hi = P.colwise().maxCoeff().transpose();
+  const double diag = (hi - lo).norm(), base = 1e-6;
+
+  // Brute force: the share of points with a point within base 2^k diag of p + t.
+  auto brute = [&](const Eigen::Matrix<double, Eigen::Dynamic, 3>& Q, int k) {
+    std::size_t c = 0;
+    for (Eigen::Index i = 0; i < Q.rows(); ++i) {
+      double best = INFINITY;
+      for (Eigen::Index j = 0; j < Q.rows(); ++j) best = std::min(best, (Q.row(j) - Q.row(i) - t.transpose()).norm());
+      c += best <= base * std::ldexp(1.0, k) * diag;
+    }
+    return double(c) / double(Q.rows());
+  };
+
+  SECTION("exact copies") {
+    const RepeatPrecision r = repeat_precision(P, {t}, diag, base);
+    CHECK(r.tolerance == base);
+    REQUIRE(r.shares.size() == 1);
+    REQUIRE(r.shares[0].size() == 7);
+    CHECK(r.shares[0][0] == Approx(0.75));  // every copy but the last has its partner
+    for (int k = 0; k < 7; ++k) CHECK(r.shares[0][std::size_t(k)] == brute(P, k));
+  }
+  SECTION("every copy moved by 5e-6 of the diagonal: the pairs appear at rung 8e-6, the tolerance is 1.6e-5") {
+    // Copy c moves by c * delta along a fixed direction: neighbouring copies differ by exactly delta.
+    const Eigen::Vector3d dir = Eigen::Vector3d(1, 2, 2) / 3.0;
+    const double delta = 5e-6 * diag;
+    for (Eigen::Index i = 0; i < P.rows(); ++i) P.row(i) += double(i / 300) * delta * dir.transpose();
+    const RepeatPrecision r = repeat_precision(P, {t}, diag, base);
+    CHECK(r.tolerance == 16 * base);
+    CHECK(r.shares[0][2] == 0);  // 4e-6: no pair yet
+    CHECK(r.shares[0][3] == Approx(0.75));
+    for (int k = 0; k < 7; ++k) CHECK(r.shares[0][std::size_t(k)] == brute(P, k));
+    // The largest over the offsets: an exact second offset does not lower it.
+    CHECK(repeat_precision(P, {t, Eigen::Vector3d(0.5, 0, 0)}, diag, base).tolerance == 16 * base);
+  }
+  SECTION("past the work bound (every point in one cell) the measure gives up: the base, no shares") {
+    for (Eigen::Index i = 0; i < P.rows(); ++i) P.row(i) += double(i / 300) * 5e-6 * diag * Eigen::RowVector3d(1, 0, 0);
+    RepeatPrecisionOptions few;
+    few.max_visits_per_query = 0.25;  // three queries in four look at their one partner here
+    CHECK(repeat_precision(P, {t}, diag, base).tolerance == 16 * base);
+    const RepeatPrecision r = repeat_precision(P, {t}, diag, base, few);
+    CHECK(r.tolerance == base);
+    CHECK(r.shares.empty());
+    Eigen::Matrix<double, Eigen::Dynamic, 3> crowd(2000, 3);  // all within one cell, one far point
+    for (Eigen::Index i = 0; i < crowd.rows(); ++i) crowd.row(i) = Eigen::RowVector3d(1e-9 * double(i), 0, 0);
+    crowd.row(0) = Eigen::RowVector3d(1, 1, 1);
+    CHECK(repeat_precision(crowd, {Eigen::Vector3d(1e-9, 0, 0)}, std::sqrt(3.0), base).shares.empty());
+  }
+  SECTION("copies off by more than the largest rung, or no repeat at all: the base stays") {
+    const Eigen::Vector3d dir(0, 0, 1);
+    for (Eigen::Index i = 0; i < P.rows(); ++i) P.row(i) += double(i / 300) * 1e-3 * diag * dir.transpose();
+    CHECK(repeat_precision(P, {t}, diag, base).tolerance == base);
+    CHECK(repeat_precision(repeated(300, 1, t, 5), {t}, diag, base).tolerance == base);
+  }
+  SECTION("one copy moved by 0 to 1.5e-5 of the diagonal, evenly: the pairs are complete by rung 1.6e-5 (the share "
+          "grows until then), the tolerance is 3.2e-5") {
+    const Eigen::Vector3d dir = Eigen::Vector3d(2, -1, 2) / 3.0;
+    for (Eigen::Index i = 300; i < 600; ++i)  // the second copy only: its pairs with the first and the third
+      P.row(i) += ((double(i - 300) + 0.5) / 300.0) * 1.5e-5 * diag * dir.transpose();  // off the rungs
+    const RepeatPrecision r = repeat_precision(P, {t}, diag, base);
+    for (int k = 0; k < 7; ++k) CHECK(r.shares[0][std::size_t(k)] == brute(P, k));
+    CHECK(r.shares[0][3] < 0.95 * r.shares[0][4]);
+    CHECK(r.tolerance == 32 * base);
+  }
+}

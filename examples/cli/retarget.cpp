@@ -103,6 +103,9 @@ void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen
                 rep.seams_moved);
   std::printf("\n  wrote %s: %zu triangles in, %zu out\n", args.output.c_str(), rep.triangles_in, rep.triangles_out);
   std::printf("  boundary edges (positions welded): %zu in, %zu out\n", rep.boundary_edges_in, rep.boundary_edges_out);
+  if (rep.weld_tolerance_measured)
+    std::printf("  weld tolerance %.3g of the diagonal, measured: the copies' vertices coincide to that (docs/method.md 3)\n",
+                rep.weld_tolerance);
 }
 
 // `restitch resize`: returns the exit code.
@@ -204,7 +207,8 @@ void register_resize(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   cmd->add_option("--weld-tolerance", args->weld_tolerance,
                   "merge seam vertices and split T-junctions this close, as a fraction of the bounding-box diagonal "
-                  "(0: 1e-6, exact copies; 1e-4 closes most seams of models whose copies differ slightly)")
+                  "(0: 1e-6, exact copies, raised up to 6.4e-5 where the copies' vertices are measured to coincide "
+                  "only to that; 1e-4 closes most seams of models whose copies differ slightly)")
       ->check(CLI::Range(0.0, 1e-2))
       ->capture_default_str();
   cmd->add_flag("--seams-on-cells", args->seams_on_cells,

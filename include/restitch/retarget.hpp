@@ -38,6 +38,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdio>
@@ -53,6 +54,7 @@
 #include "restitch/energy/seam_energy.hpp"
 #include "restitch/lattice/label_space.hpp"
 #include "restitch/mesh_boundary.hpp"
+#include "restitch/offsets/snap.hpp"
 #include "restitch/placement.hpp"
 #include "restitch/solver/alpha_expansion.hpp"
 #include "restitch/stitch/stitch.hpp"
@@ -88,11 +90,17 @@ struct RetargetOptions {
   bool move_seams = true;
   /// Weld tolerance of the stitcher, relative to the input's bounding-box diagonal: seam vertices this
   /// close are merged and T-junctions this close split (restitch/stitch/stitch.hpp). 0 (default): the
-  /// stitcher's own (ClipStitcher: 1e-6, exact copies only). Real models' copies often differ by 1e-5 to
-  /// 1e-4 of the diagonal, so their seams stay open at 1e-6 (README, Known limits); a larger value closes
-  /// them and also snaps and drops slivers at that scale. Set on a stitcher with a `weld_tolerance`
-  /// member; refused (invalid_argument) outside [0, 1e-2] or for a stitcher without one.
+  /// stitcher's own (ClipStitcher: 1e-6, exact copies only), raised to the copies' measured precision
+  /// when measure_weld_tolerance is on. Real models' copies often differ by 1e-6 to 1e-4 of the diagonal,
+  /// so their seams stay open at 1e-6 (README, Known limits); a larger value closes them and also snaps
+  /// and drops slivers at that scale. Set on a stitcher with a `weld_tolerance` member; refused
+  /// (invalid_argument) outside [0, 1e-2] or for a stitcher without one.
   double weld_tolerance = 0;
+  /// With weld_tolerance 0: measure how closely the copies' vertices coincide along the principal
+  /// offsets (repeat_precision, restitch/offsets/snap.hpp; docs/method.md 3, "Measured weld tolerance") when the Retargeter is
+  /// built, and weld at that precision where it is coarser than the stitcher's own tolerance (at most
+  /// 64 times it). Exact copies, and copies whose vertices do not pair, keep the stitcher's own.
+  bool measure_weld_tolerance = true;
 };
 
 /// One seam of an output: two neighbouring output cells (sharing a face) with different labels, or an
@@ -120,6 +128,11 @@ struct RetargetReport {
   /// only with RetargetOptions::boundary_edges (then boundary_edges_counted is true; else both are 0).
   bool boundary_edges_counted = false;
   std::size_t boundary_edges_in = 0, boundary_edges_out = 0;
+  /// The stitcher's weld tolerance as used, relative to the input's diagonal (0 for a stitcher without
+  /// one), and whether it was measured from the copies (RetargetOptions::measure_weld_tolerance) rather
+  /// than the stitcher's own or the one asked for.
+  double weld_tolerance = 0;
+  bool weld_tolerance_measured = false;
   Eigen::Vector3d size_in = Eigen::Vector3d::Zero(),
                   size_out = Eigen::Vector3d::Zero();  ///< bounding boxes, model units
   std::map<std::string, double> timings_ms;            ///< energy, solve, stitch, boundary (when counted), total (informative only)
@@ -266,6 +279,7 @@ class Retargeter {
       : mesh_(&mesh), analysis_(&analysis), options_(options), space_(labels), solver_(solver), stitcher_(stitcher) {
     status_ = detail::guarded("Retargeter", [&]() -> Status {
       RESTITCH_TRY(set_weld_tolerance());
+      if (options_.weld_tolerance == 0 && options_.measure_weld_tolerance) measure_weld_tolerance(mesh, analysis);
       RESTITCH_TRY(space_.grid(mesh, analysis, grid_));
       if (std::int64_t(grid_.cells.prod()) > std::int64_t(options_.max_problem_size))
         return error(StatusCode::too_large, "the label grid has " + std::to_string(grid_.cells.prod()) +
@@ -516,6 +530,8 @@ class Retargeter {
     rep.triangles_in = mesh_->triangle_count();
     rep.boundary_edges_counted = options_.boundary_edges;
     rep.boundary_edges_in = boundary_edges_in_;
+    if constexpr (detail::has_weld_tolerance_v<Stitcher>) rep.weld_tolerance = stitcher_.weld_tolerance;
+    rep.weld_tolerance_measured = weld_measured_;
     rep.size_in = size_in_;
     if ((steps != 0).any() && analysis_->principal.empty())
       return error(StatusCode::no_repetition,
@@ -573,6 +589,27 @@ class Retargeter {
       return {};
     } else {
       return error(StatusCode::invalid_argument, "this stitcher has no weld tolerance to set");
+    }
+  }
+
+  // RetargetOptions::measure_weld_tolerance: the stitcher's tolerance raised to the precision at which the
+  // copies' vertices repeat along the principal offsets.
+  void measure_weld_tolerance(const Mesh& mesh, const Analysis& analysis) {
+    if constexpr (detail::has_weld_tolerance_v<Stitcher>) {
+      const std::vector<Eigen::Vector3d> offsets = analysis.principal_model_units();
+      if (offsets.empty()) return;
+      // The vertices the faces use (one that no face uses is not geometry), in index order; a position
+      // shared by several vertices (split normals or UVs) counts once per vertex, in every rung alike.
+      std::vector<char> used(std::size_t(mesh.V.rows()), 0);
+      for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+        for (int c = 0; c < 3; ++c) used[std::size_t(mesh.F(f, c))] = 1;
+      Eigen::Matrix<double, Eigen::Dynamic, 3> points(Eigen::Index(std::count(used.begin(), used.end(), 1)), 3);
+      Eigen::Index row = 0;
+      for (Eigen::Index v = 0; v < mesh.V.rows(); ++v)
+        if (used[std::size_t(v)]) points.row(row++) = mesh.V.row(v).cast<double>();
+      const double base = stitcher_.weld_tolerance;
+      const RepeatPrecision p = repeat_precision(points, offsets, bounding_box(mesh).size().norm(), base);
+      if (p.tolerance > base) stitcher_.weld_tolerance = p.tolerance, weld_measured_ = true;
     }
   }
 
@@ -797,6 +834,7 @@ class Retargeter {
   Eigen::Vector3d size_in_ = Eigen::Vector3d::Zero();
   BoundingBox box_in_;
   std::size_t boundary_edges_in_ = 0;
+  bool weld_measured_ = false;  // RetargetOptions::measure_weld_tolerance raised the stitcher's
 
   static std::string format_size(double x) { return detail::format_size(x); }
 };

@@ -23,7 +23,9 @@
 //   non_metric, cells_in, cells_out, size_in, size_out, timings_ms,
 //   output {vertices, triangles}, boundary_edges {in, out} (open edges with
 //   positions welded, restitch/mesh_boundary.hpp; null unless
-//   RetargetOptions::boundary_edges), pivot {modes, point, translation, low_end_cells},
+//   RetargetOptions::boundary_edges), weld_tolerance {relative (of the input's
+//   diagonal, as the stitcher used it), measured (from the copies' vertices,
+//   RetargetOptions::measure_weld_tolerance)}, pivot {modes, point, translation, low_end_cells},
 //   exact {applied, scale, size_nearest}, seam_energy ("geometry" | "descriptor"),
 //   sample_spacing, seam_tolerance, max_seam_mismatch (model units), seams [{cells [[i,j,k] x2]
 //   (output cells; the second lies outside for an anchored end), labels [[du,dv,dw] x2], mismatch
@@ -110,6 +112,7 @@ inline nlohmann::json retarget_json(const RetargetReport& r) {
   j["boundary_edges"] = r.boundary_edges_counted
                            ? nlohmann::json{{"in", r.boundary_edges_in}, {"out", r.boundary_edges_out}}
                            : nlohmann::json(nullptr);
+  j["weld_tolerance"] = {{"relative", r.weld_tolerance}, {"measured", r.weld_tolerance_measured}};
   const Placement& p = r.placement;
   j["pivot"] = {{"modes", {pivot_name(p.modes[0]), pivot_name(p.modes[1]), pivot_name(p.modes[2])}},
                 {"point", detail::vec3(p.pivot)},
