@@ -97,9 +97,10 @@ struct RetargetOptions {
   /// (invalid_argument) outside [0, 1e-2] or for a stitcher without one.
   double weld_tolerance = 0;
   /// With weld_tolerance 0: measure how closely the copies' vertices coincide along the principal
-  /// offsets (repeat_precision, restitch/offsets/snap.hpp; docs/method.md 3, "Measured weld tolerance") when the Retargeter is
-  /// built, and weld at that precision where it is coarser than the stitcher's own tolerance (at most
-  /// 64 times it). Exact copies, and copies whose vertices do not pair, keep the stitcher's own.
+  /// offsets when the Retargeter is built (repeat_precision, restitch/offsets/snap.hpp; docs/method.md 3,
+  /// "Measured weld tolerance"), and weld at that precision where it is coarser than the stitcher's own
+  /// tolerance (at most 64 times it). Exact copies, and copies whose vertices do not pair, keep the
+  /// stitcher's own.
   bool measure_weld_tolerance = true;
 };
 

@@ -125,6 +125,14 @@ class CellChains {
     for (std::int32_t i = *head; i >= 0; i = next_[std::size_t(i)]) f(i);
   }
 
+  /// Calls f(item) for every item of the cells lo .. hi (inclusive, per axis), z outermost, x innermost.
+  template <class F>
+  void for_each_in(const Cell& lo, const Cell& hi, F&& f) const {
+    for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
+      for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (std::int64_t x = lo[0]; x <= hi[0]; ++x) for_each(Cell{x, y, z}, f);
+  }
+
   /// Like for_each, but stops at the first item for which f returns true; returns whether one did.
   template <class F>
   bool any_of(const Cell& c, F&& f) const {

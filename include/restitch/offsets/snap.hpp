@@ -90,13 +90,10 @@ inline SnapResult snap_offset(const Eigen::Matrix<double, Eigen::Dynamic, 3>& po
     Eigen::Index hit = -1;
     const double reach = r * (1 + 1e-9);
     const detail::Cell lo = cell_of((q.array() - reach).matrix()), hi = cell_of((q.array() + reach).matrix());
-    for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
-      for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
-        for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
-          g.for_each(detail::Cell{x, y, z}, [&](std::int32_t j) {
-            const double d2 = (points.row(j).transpose() - q).squaredNorm();
-            if (d2 < best || (d2 == best && hit >= 0 && j < hit)) best = d2, hit = j;
-          });
+    g.for_each_in(lo, hi, [&](std::int32_t j) {
+      const double d2 = (points.row(j).transpose() - q).squaredNorm();
+      if (d2 < best || (d2 == best && hit >= 0 && j < hit)) best = d2, hit = j;
+    });
     return hit;
   };
   auto nearest = [&](const Eigen::Vector3d& q, double r) { return nearest_in(grid, cell, q, r); };
@@ -193,7 +190,8 @@ struct RepeatPrecisionOptions {
   double max_visits_per_query = 256;
 };
 
-/// Measures how precisely `points` (#P by 3, unique positions) repeat at each of `offsets` (same units):
+/// Measures how precisely `points` (#P by 3; a position given twice counts twice) repeat at each of
+/// `offsets` (same units):
 /// the share of points with a point within r of p + t, for r = base * 2^k * diagonal. The copies of a
 /// repeat pair up at their precision and the share then stops growing; so the first rung k whose share
 /// reaches min_share and holds `agree` of the next rung's is where the pairs are complete. k = 0: the
@@ -232,14 +230,11 @@ inline RepeatPrecision repeat_precision(const Eigen::Matrix<double, Eigen::Dynam
       double best = r_max * r_max;
       bool hit = false;
       const detail::Cell lo = cell((q.array() - r_max).matrix()), hi = cell((q.array() + r_max).matrix());
-      for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
-        for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
-          for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
-            grid.for_each(detail::Cell{x, y, z}, [&](std::int32_t j) {
-              const double d2 = (points.row(j).transpose() - q).squaredNorm();
-              if (d2 <= best) best = d2, hit = true;
-              ++visits;
-            });
+      grid.for_each_in(lo, hi, [&](std::int32_t j) {
+        const double d2 = (points.row(j).transpose() - q).squaredNorm();
+        if (d2 <= best) best = d2, hit = true;
+        ++visits;
+      });
       if (visits > visit_budget) return result;  // gave up: the base, no shares
       if (!hit) continue;
       const double d = std::sqrt(best);
