@@ -143,6 +143,9 @@ struct StitchReport {
   std::size_t triangles_copied = 0;      ///< input triangles copied untouched (one per copy)
   std::size_t triangles_clipped = 0;     ///< input triangle copies that crossed a region boundary and were clipped
   std::size_t seam_vertices_welded = 0;  ///< output vertices removed by welding
+  /// seam vertices moved onto an earlier one within the tolerance that they may not join (another
+  /// group, or attributes that differ): the surface closes, the attribute seam stays
+  std::size_t seam_vertices_snapped = 0;
   std::size_t t_junction_edges_split = 0;  ///< boundary seam edges split at T-vertices (stitch/detail/tjunction.hpp)
   std::size_t end_caps = 0;  ///< overhangs copied onto ends whose region is not anchored there (file comment)
   double ms = 0;                         ///< wall-clock time of the call (informative only)
@@ -269,10 +272,12 @@ class ClipStitcher {
     }
     report.end_caps = regions.caps.size();
     double tol = cache.tolerance();
+    std::vector<std::uint32_t> snap_to;
     std::vector<std::uint32_t> rep_of =
         weld ? detail::weld_map(output, in, cache, layout, float(attribute_tolerance), report.seam_vertices_welded,
-                                &tol)
+                                snap_to, report.seam_vertices_snapped, &tol)
              : identity(output.vertex_count());
+    if (weld) output.snap_positions(std::move(snap_to));
     if (weld && repair_t_junctions)
       report.t_junction_edges_split =
           detail::repair_t_junctions(output, in, cache, layout, float(attribute_tolerance), tol, rep_of);

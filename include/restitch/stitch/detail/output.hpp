@@ -143,6 +143,10 @@ class StitchOutput {
     return id;
   }
 
+  /// From now on vertex i takes the position of vertex at[i] (at[i] == i: its own; at[at[i]] == at[i]);
+  /// vertices added later keep their own. The weld's geometric part (weld_map).
+  void snap_positions(std::vector<std::uint32_t>&& at) { at_ = std::move(at); }
+
   // Faces as built: 3 corners each (output vertex ids, not yet welded), and their groups.
   std::size_t face_count() const { return fgroup_.size(); }
   const std::uint32_t* face(std::size_t f) const { return &faces_[3 * f]; }
@@ -161,6 +165,7 @@ class StitchOutput {
   /// The input vertex an uncut output vertex copies.
   std::uint32_t source(std::uint32_t i) const { return vsrc_[i]; }
   void position(std::uint32_t i, float* p) const {
+    if (i < at_.size()) i = at_[i];  // snapped onto another vertex's position (snap_positions)
     if (is_cut(i)) {
       std::copy(cut_data(i), cut_data(i) + 3, p);
       return;
@@ -273,6 +278,7 @@ class StitchOutput {
   std::vector<std::int32_t> vregion_;
   std::vector<std::uint32_t> vgroup_;
   std::vector<float> cut_;
+  std::vector<std::uint32_t> at_;  // snap_positions; empty: every vertex at its own position
   std::vector<std::uint32_t> faces_;  // 3 per face
   std::vector<std::uint32_t> fgroup_;
 };

@@ -6,7 +6,11 @@
 // group carries agrees within `attribute_tolerance` (tangent w exactly), and
 // they are not two untouched copies made by the same region. Each candidate,
 // in vertex order, joins the lowest earlier representative it is compatible
-// with. Candidates are found through a hash grid of cells 2 tol wide: a
+// with. A candidate that joins none but lies within the tolerance of an
+// earlier representative it may not join (another group, or attributes that
+// differ: a UV seam, a hard edge) takes that vertex's position, and stays its
+// own vertex (`snap_to`): the surface closes, the attribute seam stays.
+// Candidates are found through a hash grid of cells 2 tol wide: a
 // partner at most tol away lies, along each axis, in the candidate's cell or
 // in the neighbour on the side of the nearer cell face, so 8 cells are looked
 // at. Cost O(s) expected for s seam vertices.
@@ -27,17 +31,21 @@
 
 namespace restitch::detail {
 
-/// Do output vertices i and j (positions pi, pj) weld? See the file comment.
-inline bool weld_compatible(const StitchOutput& o, const Mesh& in, const VertexLayout& L, float attribute_tolerance,
-                            std::uint32_t i, std::uint32_t j, const float* pi, const float* pj, double tol2) {
-  if (o.group(i) != o.group(j)) return false;
-  if (!o.is_cut(i) && !o.is_cut(j) && o.region(i) == o.region(j)) return false;
+inline double squared_distance(const float* pi, const float* pj) {
   double d2 = 0;
   for (int a = 0; a < 3; ++a) {
     const double d = double(pi[a]) - double(pj[a]);
     d2 += d * d;
   }
-  if (d2 > tol2) return false;
+  return d2;
+}
+
+/// Do output vertices i and j (positions pi, pj) weld? See the file comment.
+inline bool weld_compatible(const StitchOutput& o, const Mesh& in, const VertexLayout& L, float attribute_tolerance,
+                            std::uint32_t i, std::uint32_t j, const float* pi, const float* pj, double tol2) {
+  if (o.group(i) != o.group(j)) return false;
+  if (!o.is_cut(i) && !o.is_cut(j) && o.region(i) == o.region(j)) return false;
+  if (squared_distance(pi, pj) > tol2) return false;
   const AttributeSet& at = in.groups[o.group(i)].attributes;
   const float e = attribute_tolerance;
   auto close = [e](const float* x, const float* y, int n) {
@@ -57,13 +65,17 @@ inline bool weld_compatible(const StitchOutput& o, const Mesh& in, const VertexL
 
 /// The representative of every output vertex after welding (itself when not
 /// welded); `welded` counts the vertices that were merged away; the tolerance
-/// used goes to `tolerance_used` when given.
+/// used goes to `tolerance_used` when given. `snap_to` (every vertex: the one
+/// whose position it takes, itself when none) and `snapped` (how many take
+/// another's) are the geometric part, for StitchOutput::snap_positions.
 inline std::vector<std::uint32_t> weld_map(const StitchOutput& o, const Mesh& in, const ClipStitchCache& cache,
                                            const VertexLayout& L, float attribute_tolerance, std::size_t& welded,
+                                           std::vector<std::uint32_t>& snap_to, std::size_t& snapped,
                                            double* tolerance_used = nullptr) {
   const std::size_t nv = o.vertex_count();
   std::vector<std::uint32_t> rep_of(nv);
   for (std::size_t i = 0; i < nv; ++i) rep_of[i] = std::uint32_t(i);
+  snap_to = rep_of;
   // Seam vertices in vertex order, with their positions.
   std::vector<std::uint32_t> ids;
   std::vector<std::array<float, 3>> pos;
@@ -92,20 +104,26 @@ inline std::vector<std::uint32_t> weld_map(const StitchOutput& o, const Mesh& in
       const double u = double(pos[k][std::size_t(a)]) / h;
       side[std::size_t(a)] = (u - std::floor(u)) < 0.5 ? -1 : 1;
     }
-    std::uint32_t best = ids[k];
+    std::uint32_t best = ids[k], near = ids[k];  // near: the lowest earlier representative within tol
     for (int dz = 0; dz <= 1; ++dz)
       for (int dy = 0; dy <= 1; ++dy)
         for (int dx = 0; dx <= 1; ++dx)
           grid.for_each(Cell{c[0] + dx * side[0], c[1] + dy * side[1], c[2] + dz * side[2]}, [&](std::int32_t m) {
             const std::uint32_t j = ids[std::size_t(m)];
-            if (j < best && rep_of[j] == j &&
-                weld_compatible(o, in, L, attribute_tolerance, ids[k], j, pos[k].data(), pos[std::size_t(m)].data(),
-                                tol2))
+            if (j >= ids[k] || rep_of[j] != j) return;
+            if (j < best && weld_compatible(o, in, L, attribute_tolerance, ids[k], j, pos[k].data(),
+                                            pos[std::size_t(m)].data(), tol2))
               best = j;
+            if (j < near && (o.is_cut(ids[k]) || o.is_cut(j) || o.region(ids[k]) != o.region(j)) &&
+                squared_distance(pos[k].data(), pos[std::size_t(m)].data()) <= tol2)
+              near = j;  // the input's own vertices within one region are never moved
           });
     if (best != ids[k]) {
       rep_of[ids[k]] = best;
       ++welded;
+    } else if (near != ids[k]) {
+      snap_to[ids[k]] = snap_to[near];
+      ++snapped;
     }
   }
   return rep_of;
