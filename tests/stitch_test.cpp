@@ -1,5 +1,6 @@
 // Tests for restitch/stitch/stitch.hpp: the clip stitcher.
 #include "restitch/stitch/stitch.hpp"
+#include "restitch/mesh_boundary.hpp"
 
 #include <algorithm>
 #include <array>
@@ -706,4 +707,40 @@ TEST_CASE("stitch: a dense 3-D grid model keeps its area under a 3-axis stretch"
   for (int j = 0; j < out_cells(1); ++j)
     for (int i = 0; i < out_cells(0); ++i) expect += area_in_cell(i < 2 ? i : i - 2, j < 2 ? j : j - 1);
   CHECK(area(out) == Approx(expect).epsilon(1e-6));
+}
+
+TEST_CASE("stitch: seam vertices within the tolerance that may not weld (normals differ) take one position", "[stitch]") {
+  // A strip of 3 cells along x; the row at x = 0 lies 1e-6 higher in y than the rows at x = 1, 2, 3 (the
+  // weld tolerance is 1e-6 of the diagonal, 3.2e-6 here) and has another normal. Output cell 1 copies
+  // input cell 0: at the seam x = 1 its left row (input x = 0, moved by 1) meets cell 0's right row. They
+  // may not weld (normals differ), so one takes the other's position: 2 vertices, positions equal.
+  Builder b;
+  b.constant_attributes = true;
+  const double dy = 1e-6;
+  const Eigen::Vector3d up(0, 0, 1), tilted(0, 0.6, 0.8);
+  std::array<std::array<std::uint32_t, 2>, 4> v{};
+  for (int i = 0; i <= 3; ++i)
+    for (int j = 0; j <= 1; ++j)
+      v[std::size_t(i)][std::size_t(j)] = b.vertex({double(i), double(j) + (i == 0 ? dy : 0.0), 0}, i == 0 ? tilted : up);
+  for (std::size_t i = 0; i < 3; ++i) {
+    b.triangle(v[i][0], v[i + 1][0], v[i + 1][1]);
+    b.triangle(v[i][0], v[i + 1][1], v[i][1]);
+  }
+  const Mesh in = b.mesh();
+  const Lattice lat = lattice_x(1.0, 3);
+  Mesh out;
+  StitchReport rep;
+  REQUIRE(ClipStitcher().stitch(in, lat, lat.cells, {{0, 0, 0}, {1, 0, 0}, {0, 0, 0}}, out, rep));
+  CHECK(rep.seam_vertices_snapped == 2);
+  // At x = 1, rows y ~ 0 and y ~ 1: two vertices each, at one position, with their own normals.
+  for (const double y : {0.0, 1.0}) {
+    std::vector<Eigen::Index> at;
+    for (Eigen::Index k = 0; k < out.V.rows(); ++k)
+      if (std::abs(out.V(k, 0) - 1.0) < 1e-5 && std::abs(out.V(k, 1) - y) < 1e-5) at.push_back(k);
+    REQUIRE(at.size() == 2);
+    CHECK(out.V.row(at[0]) == out.V.row(at[1]));
+    CHECK(out.N.row(at[0]) != out.N.row(at[1]));
+  }
+  CHECK(restitch::boundary_edge_count(out) == 8);  // the strip's outline: 3 + 3 + 1 + 1
+  CHECK(restitch::validate(out).ok());
 }
