@@ -276,7 +276,7 @@ class ClipStitcher {
     std::vector<std::uint32_t> rep_of =
         weld ? detail::weld_map(output, in, cache, layout, float(attribute_tolerance), report.seam_vertices_welded,
                                 snap_to, report.seam_vertices_snapped, &tol)
-             : identity(output.vertex_count());
+             : detail::identity_map(output.vertex_count());
     if (weld) output.snap_positions(std::move(snap_to));
     if (weld && repair_t_junctions)
       report.t_junction_edges_split =
@@ -313,12 +313,6 @@ class ClipStitcher {
     } else {
       std::sort(gathered.begin(), gathered.end());
     }
-  }
-
-  static std::vector<std::uint32_t> identity(std::size_t n) {
-    std::vector<std::uint32_t> v(n);
-    for (std::size_t i = 0; i < n; ++i) v[i] = std::uint32_t(i);
-    return v;
   }
 };
 

@@ -31,6 +31,12 @@
 
 namespace restitch::detail {
 
+inline std::vector<std::uint32_t> identity_map(std::size_t n) {
+  std::vector<std::uint32_t> m(n);
+  for (std::size_t i = 0; i < n; ++i) m[i] = std::uint32_t(i);
+  return m;
+}
+
 inline double squared_distance(const float* pi, const float* pj) {
   double d2 = 0;
   for (int a = 0; a < 3; ++a) {
@@ -66,16 +72,16 @@ inline bool weld_compatible(const StitchOutput& o, const Mesh& in, const VertexL
 /// The representative of every output vertex after welding (itself when not
 /// welded); `welded` counts the vertices that were merged away; the tolerance
 /// used goes to `tolerance_used` when given. `snap_to` (every vertex: the one
-/// whose position it takes, itself when none) and `snapped` (how many take
-/// another's) are the geometric part, for StitchOutput::snap_positions.
+/// whose position it takes, itself when none; left empty when no vertex takes
+/// another's) and `snapped` (how many do) are the geometric part, for
+/// StitchOutput::snap_positions.
 inline std::vector<std::uint32_t> weld_map(const StitchOutput& o, const Mesh& in, const ClipStitchCache& cache,
                                            const VertexLayout& L, float attribute_tolerance, std::size_t& welded,
                                            std::vector<std::uint32_t>& snap_to, std::size_t& snapped,
                                            double* tolerance_used = nullptr) {
   const std::size_t nv = o.vertex_count();
-  std::vector<std::uint32_t> rep_of(nv);
-  for (std::size_t i = 0; i < nv; ++i) rep_of[i] = std::uint32_t(i);
-  snap_to = rep_of;
+  std::vector<std::uint32_t> rep_of = identity_map(nv);
+  snap_to.clear();
   // Seam vertices in vertex order, with their positions.
   std::vector<std::uint32_t> ids;
   std::vector<std::array<float, 3>> pos;
@@ -122,6 +128,7 @@ inline std::vector<std::uint32_t> weld_map(const StitchOutput& o, const Mesh& in
       rep_of[ids[k]] = best;
       ++welded;
     } else if (near != ids[k]) {
+      if (snap_to.empty()) snap_to = identity_map(nv);  // the first snap: every vertex its own so far
       snap_to[ids[k]] = snap_to[near];
       ++snapped;
     }
