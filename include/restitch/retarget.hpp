@@ -649,26 +649,37 @@ class Retargeter {
           return j > 0 ? slabs_->plane_mismatch(y - d1, y - d2, a, seam.offset, c, lo, hi)
                        : slabs_->plane_mismatch(x - d1, x - d2, a, 1.0 + seam.offset, c, lo, hi);
         };
-        // On an output face along another resized axis c, an end cap that cuts its owner (Lattice end
-        // planes inside the cell) replaces the part of the face cells beyond the end plane with the
-        // anchored copy: that part of the seam is between the anchored labels (docs/method.md 2.8).
-        // Not on an output one cell long along c: both ends' caps meet there (whole-plane comparison).
+        // On an output end face along another resized axis c, a label not anchored to that end gets an
+        // end cap (restitch/stitch/detail/regions.hpp): beyond the end plane (Lattice end_low / end_high,
+        // inside the cell or at its plane) and in the overhang past the cell, the anchored copy holds the
+        // face; only between the end planes do the labels' own copies meet. So the seam is measured in
+        // parts along c, the end's part between the anchored labels (overhang included), the rest between
+        // di and dj (overhang excluded); the largest counts (docs/method.md 2.8). On an output one cell
+        // long along c both ends' caps meet in the cell.
         int c = -1;
+        bool low = false, high = false;
         for (int b = 0; b < 3 && c < 0; ++b) {
-          if (b == a || k[b] == 0 || cells_out[b] < 2) continue;
-          const bool low = x[b] == 0 && grid_.end_low[b] > 0, high = x[b] == cells_out[b] - 1 && grid_.end_high[b] < 1;
-          const int anchor = low ? 0 : k[b];
-          if ((low || high) && (di[b] != anchor || dj[b] != anchor)) c = b;
+          if (b == a || k[b] == 0) continue;
+          low = x[b] == 0;
+          high = x[b] == cells_out[b] - 1;
+          if ((low && (di[b] != 0 || dj[b] != 0)) || (high && (di[b] != k[b] || dj[b] != k[b]))) c = b;
         }
         if (c < 0) {
           seam.mismatch = between(di, dj, -1, 0.0, 1.0);
         } else {
-          const bool low = x[c] == 0 && grid_.end_low[c] > 0;
-          const double plane = low ? grid_.end_low[c] : grid_.end_high[c];
-          Eigen::Array3i ci = di, cj = dj;  // the labels the caps copy with
-          ci[c] = cj[c] = low ? 0 : k[c];
-          seam.mismatch = std::max(low ? between(ci, cj, c, 0.0, plane) : between(ci, cj, c, plane, 1.0),
-                                   low ? between(di, dj, c, plane, 1.0) : between(di, dj, c, 0.0, plane));
+          const auto anchored = [&](const Eigen::Array3i& d, int anchor) {  // the label a cap copies with
+            Eigen::Array3i v = d;
+            v[c] = anchor;
+            return v;
+          };
+          double lo = 0.0, hi = 1.0;  // the part of the face the labels' own copies hold, along c
+          if (low)
+            lo = grid_.end_low[c],
+            seam.mismatch = between(anchored(di, 0), anchored(dj, 0), c, -INFINITY, lo);
+          if (high)
+            hi = grid_.end_high[c],
+            seam.mismatch = std::max(seam.mismatch, between(anchored(di, k[c]), anchored(dj, k[c]), c, hi, INFINITY));
+          if (lo < hi) seam.mismatch = std::max(seam.mismatch, between(di, dj, c, lo, hi));
         }
       }
       rep.max_seam_mismatch = std::max(rep.max_seam_mismatch, seam.mismatch);

@@ -178,8 +178,9 @@ class CellSlabs {
   /// the slab is not widened to infinity along a). Pairs of inside cells are cached (per cell pair,
   /// axis and f), as mismatch is: the live slider asks for the same seams again.
   /// `cut_axis` (another axis, or -1 for none): only the part of the plane with relative canonical
-  /// coordinate in [cut_lo, cut_hi) along it (the seam report's part of a face an end cap does not
-  /// cover, retarget.hpp).
+  /// coordinate in [cut_lo, cut_hi) along it, as given: an end cell's overhang along cut_axis counts only
+  /// where the range reaches past 0 or 1 (-INFINITY, INFINITY). The seam report's parts of a face on an
+  /// output end, where an end cap holds one part and the labels' own copies another (retarget.hpp).
   double plane_mismatch(const Eigen::Array3i& c1, const Eigen::Array3i& c2, int a, double f, int cut_axis = -1,
                         double cut_lo = 0.0, double cut_hi = 1.0) {
     if ((c1 == c2).all()) return 0.0;
@@ -195,7 +196,7 @@ class CellSlabs {
       lo[a] = f - width_[a];
       hi[a] = f + width_[a];
       Slab s;
-      fill_slab(s, in1 ? c1 : c2, lo, hi, a);
+      fill_slab(s, in1 ? c1 : c2, lo, hi, a, cut_axis);
       return s.q.empty() ? 0.0 : empty_mismatch_;
     }
     const int i1 = grid_.index(c1), i2 = grid_.index(c2);
@@ -210,8 +211,8 @@ class CellSlabs {
       lo[a] = k == 0 ? f - width_[a] : f;
       hi[a] = k == 0 ? f : f + width_[a];
       Slab s1, s2;
-      fill_slab(s1, c1, lo, hi, a);
-      fill_slab(s2, c2, lo, hi, a);
+      fill_slab(s1, c1, lo, hi, a, cut_axis);
+      fill_slab(s2, c2, lo, hi, a, cut_axis);
       side[k] = compare(s1, s2);
     }
     const double d = std::min(side[0], side[1]);
@@ -312,9 +313,11 @@ class CellSlabs {
   // cell's own plane 0 or 1 of an end cell reaches to infinity outward: clamping), and those around
   // it (the interval widened by the margin, from c and its neighbours). Along `exact_axis` (a plane
   // slab) the interval is not clamped and may reach into the neighbours there: their samples count.
-  void fill_slab(Slab& s, const Eigen::Array3i& c, double lo[3], double hi[3], int exact_axis = -1) {
+  // Along `cut_axis` it is not clamped either (plane_mismatch's cut range, as given).
+  void fill_slab(Slab& s, const Eigen::Array3i& c, double lo[3], double hi[3], int exact_axis = -1,
+                 int cut_axis = -1) {
     for (int a = 0; a < 3; ++a) {
-      if (a == exact_axis) continue;
+      if (a == exact_axis || a == cut_axis) continue;
       if (c[a] == 0 && lo[a] == 0.0) lo[a] = -INFINITY;
       if (c[a] == grid_.dims[a] - 1 && hi[a] == 1.0) hi[a] = INFINITY;
     }
