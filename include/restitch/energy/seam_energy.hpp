@@ -137,6 +137,7 @@ class SeamMrf {
     build_labels();
     build_table(cells);
     build_edges(nb);
+    build_lookup();
     build_unary();
   }
 
@@ -152,6 +153,7 @@ class SeamMrf {
     const std::size_t entries = std::size_t(in_.size()) * dirs_ * std::size_t(span_.size());
     if (entries <= dense_table_limit) table_.assign(entries, std::nan(""));
     build_edges(nb);
+    build_lookup();
     build_unary();
   }
 
@@ -186,8 +188,8 @@ class SeamMrf {
   double pairwise(int e, int li, int lj) const {
     if (li == lj) return 0.0;
     const auto [x, y] = edges_[std::size_t(e)];
-    const Eigen::Array3i cx = out_.cell(x), cy = out_.cell(y);
-    return seam(cx, cy - cx, labels_[li], labels_[lj]) + seam(cy, cx - cy, labels_[li], labels_[lj]);
+    const std::array<std::uint8_t, 2>& t = edge_dirs_[std::size_t(e)];
+    return node_seam(x, t[0], li, lj) + node_seam(y, t[1], li, lj);
   }
 
   /// The output cells (the nodes, in linear order).
@@ -371,32 +373,73 @@ class SeamMrf {
     if (ea != eb) return empty_mismatch_;
     return cells.distance(in_.index(a), in_.index(b));
   }
+  // The solver's lookups, so a pairwise term costs a few loads (the solver asks for about 3 E per move):
+  // per node and label the input cell the node copies (-1 outside the input), per pair of labels the
+  // index of their difference in span_, per edge the directions of its two cells toward each other.
+  void build_lookup() {
+    const int n = node_count(), m = label_count();
+    source_.resize(std::size_t(n) * std::size_t(m));
+    for (int x = 0; x < n; ++x) {
+      const Eigen::Array3i cx = out_.cell(x);
+      for (int l = 0; l < m; ++l) {
+        const Eigen::Array3i s = cx - labels_[std::size_t(l)];
+        source_[std::size_t(x) * std::size_t(m) + std::size_t(l)] = in_.inside(s) ? in_.index(s) : -1;
+      }
+    }
+    difference_.resize(std::size_t(m) * std::size_t(m));
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m; ++j)
+        difference_[std::size_t(i) * std::size_t(m) + std::size_t(j)] =
+            std::uint32_t(span_.index(labels_[std::size_t(i)] - labels_[std::size_t(j)] + k_.abs()));
+    edge_dirs_.resize(edges_.size());
+    for (std::size_t e = 0; e < edges_.size(); ++e) {
+      const Eigen::Array3i cx = out_.cell(edges_[e].first), cy = out_.cell(edges_[e].second);
+      edge_dirs_[e] = {std::uint8_t(slabs_ ? CellSlabs::direction(cy - cx) : 0),
+                       std::uint8_t(slabs_ ? CellSlabs::direction(cx - cy) : 0)};
+    }
+  }
+
+  // seam() of output node x toward direction t (its index) with labels li, lj, from the lookups.
+  double node_seam(int x, std::size_t t, int li, int lj) const {
+    const std::size_t m = labels_.size();
+    const int a = source_[std::size_t(x) * m + std::size_t(li)];
+    if (a >= 0) return term(a, t, difference_[std::size_t(li) * m + std::size_t(lj)]);
+    const int b = source_[std::size_t(x) * m + std::size_t(lj)];
+    if (b >= 0) return term(b, t, difference_[std::size_t(lj) * m + std::size_t(li)]);
+    return 0.0;  // both outside: both empty
+  }
+
   // D(x - di, x - dj) (descriptor) or G(x - di, x - dj; o) (geometry), o the direction from x to the
   // neighbour across the seam, from the per-request table.
   double seam(const Eigen::Array3i& x, const Eigen::Array3i& o, const Eigen::Array3i& di,
               const Eigen::Array3i& dj) const {
     const Eigen::Array3i a = x - di, b = x - dj;
-    Eigen::Array3i c, delta;
-    if (in_.inside(a))
-      c = a, delta = b - a;
-    else if (in_.inside(b))
-      c = b, delta = a - b;
-    else
-      return 0.0;  // both outside: both empty
     const std::size_t t = slabs_ ? CellSlabs::direction(o) : 0;
-    const std::size_t entry =
-        (std::size_t(in_.index(c)) * dirs_ + t) * std::size_t(span_.size()) + std::size_t(span_.index(delta + k_.abs()));
+    if (in_.inside(a)) return term(in_.index(a), t, std::size_t(span_.index(b - a + k_.abs())));
+    if (in_.inside(b)) return term(in_.index(b), t, std::size_t(span_.index(a - b + k_.abs())));
+    return 0.0;  // both outside: both empty
+  }
+
+  // The table's term for input cell c (its index), direction index t and label difference index u
+  // (span_): D(c, c + delta), or G(c, c + delta; o) computed on first use.
+  double term(int c, std::size_t t, std::size_t u) const {
+    const std::size_t entry = (std::size_t(c) * dirs_ + t) * std::size_t(span_.size()) + u;
     if (!slabs_) return table_[entry];
     if (!table_.empty()) {
       double& v = table_[entry];
-      if (std::isnan(v)) v = slabs_->mismatch(c, c + delta, o);
+      if (std::isnan(v)) v = geometric(c, t, u);
       return v;
     }
     auto it = sparse_.find(entry);
     if (it != sparse_.end()) return it->second;
-    const double v = slabs_->mismatch(c, c + delta, o);
+    const double v = geometric(c, t, u);
     sparse_.emplace(entry, v);
     return v;
+  }
+  double geometric(int c, std::size_t t, std::size_t u) const {
+    const Eigen::Array3i cell = in_.cell(c), delta = span_.cell(std::int64_t(u)) - k_.abs();
+    const Eigen::Array3i o(int(t % 3) - 1, int(t / 3 % 3) - 1, int(t / 9) - 1);  // inverse of direction()
+    return slabs_->mismatch(cell, cell + delta, o);
   }
 
   CellGrid in_, out_;
@@ -410,6 +453,9 @@ class SeamMrf {
   std::vector<double> unary_;
   mutable std::unordered_map<std::size_t, double> sparse_;  // geometry, when the dense table would be too big
   std::vector<std::pair<int, int>> edges_;
+  std::vector<int> source_;                          // per node and label: input cell index, -1 outside
+  std::vector<std::uint32_t> difference_;            // per label pair (i, j): span_ index of d_i - d_j
+  std::vector<std::array<std::uint8_t, 2>> edge_dirs_;  // per edge: direction index of each end toward the other
 };
 
 }  // namespace restitch
