@@ -673,12 +673,14 @@ class Retargeter {
             return v;
           };
           double lo = 0.0, hi = 1.0;  // the part of the face the labels' own copies hold, along c
-          if (low)
-            lo = grid_.end_low[c],
+          if (low) {
+            lo = grid_.end_low[c];
             seam.mismatch = between(anchored(di, 0), anchored(dj, 0), c, -INFINITY, lo);
-          if (high)
-            hi = grid_.end_high[c],
+          }
+          if (high) {
+            hi = grid_.end_high[c];
             seam.mismatch = std::max(seam.mismatch, between(anchored(di, k[c]), anchored(dj, k[c]), c, hi, INFINITY));
+          }
           if (lo < hi) seam.mismatch = std::max(seam.mismatch, between(di, dj, c, lo, hi));
         }
       }

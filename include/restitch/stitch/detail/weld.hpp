@@ -46,11 +46,17 @@ inline double squared_distance(const float* pi, const float* pj) {
   return d2;
 }
 
+/// Are output vertices i and j two untouched input vertices copied by one region? Such a pair is never
+/// welded nor moved onto each other: the stitcher does not change the input's own topology.
+inline bool same_region_copies(const StitchOutput& o, std::uint32_t i, std::uint32_t j) {
+  return !o.is_cut(i) && !o.is_cut(j) && o.region(i) == o.region(j);
+}
+
 /// Do output vertices i and j (positions pi, pj) weld? See the file comment.
 inline bool weld_compatible(const StitchOutput& o, const Mesh& in, const VertexLayout& L, float attribute_tolerance,
                             std::uint32_t i, std::uint32_t j, const float* pi, const float* pj, double tol2) {
   if (o.group(i) != o.group(j)) return false;
-  if (!o.is_cut(i) && !o.is_cut(j) && o.region(i) == o.region(j)) return false;
+  if (same_region_copies(o, i, j)) return false;
   if (squared_distance(pi, pj) > tol2) return false;
   const AttributeSet& at = in.groups[o.group(i)].attributes;
   const float e = attribute_tolerance;
@@ -120,9 +126,9 @@ inline std::vector<std::uint32_t> weld_map(const StitchOutput& o, const Mesh& in
             if (j < best && weld_compatible(o, in, L, attribute_tolerance, ids[k], j, pos[k].data(),
                                             pos[std::size_t(m)].data(), tol2))
               best = j;
-            if (j < near && (o.is_cut(ids[k]) || o.is_cut(j) || o.region(ids[k]) != o.region(j)) &&
+            if (j < near && !same_region_copies(o, ids[k], j) &&
                 squared_distance(pos[k].data(), pos[std::size_t(m)].data()) <= tol2)
-              near = j;  // the input's own vertices within one region are never moved
+              near = j;
           });
     if (best != ids[k]) {
       rep_of[ids[k]] = best;
