@@ -372,6 +372,40 @@ TEST_CASE("retarget: the regular-grid baseline needs more labels for the same re
   CHECK(grow == Approx(std::lround(cells) * regular.grid().A(0, 0)).epsilon(1e-3));
 }
 
+TEST_CASE("retarget: the solver's threads change nothing but the time; out of range refused", "[retarget][threads]") {
+  // RetargetOptions::threads reaches AlphaExpansion::threads; the descriptor energy's terms are tables, so
+  // the regular-grid baseline's large problems are solved with moves proposed side by side: the same
+  // labels, energy, cycles and output bytes. The geometric energy fills its terms on first use and says
+  // so (terms_thread_safe), so its moves stay on the calling thread.
+  const Prepared& p = prepared("pin_header");
+  const Eigen::Array3i steps = steps_along(p, 0, 2);
+  RetargetOptions one, four;
+  four.threads = 4;
+  Retargeter<RegularLabels> a(p.sample.mesh, p.analysis, one), b(p.sample.mesh, p.analysis, four);
+  auto problem = b.labelling_problem(steps);
+  REQUIRE(problem.ok());
+  CHECK(problem->terms_thread_safe());
+  CHECK(problem->node_count() + problem->edge_count() >= AlphaExpansion<>().min_parallel_size);
+  auto x = a.retarget(steps), y = b.retarget(steps);
+  REQUIRE(x.ok());
+  REQUIRE(y.ok());
+  CHECK(x->cell_labels == y->cell_labels);
+  CHECK(x->report.energy == y->report.energy);
+  CHECK(x->report.cycles == y->report.cycles);
+  CHECK(*save_glb_to_memory(x->mesh) == *save_glb_to_memory(y->mesh));
+  RetargetOptions geometric = four;
+  geometric.seam_energy = SeamEnergy::geometry;
+  Retargeter<RegularLabels> g(p.sample.mesh, p.analysis, geometric);
+  auto gp = g.labelling_problem(steps);
+  REQUIRE(gp.ok());
+  CHECK_FALSE(gp->terms_thread_safe());
+  RetargetOptions bad;
+  bad.threads = -1;
+  Retargeter<> refused(p.sample.mesh, p.analysis, bad);
+  CHECK(refused.status().code() == StatusCode::invalid_argument);
+  CHECK_THAT(refused.status().message(), Catch::Contains("threads"));
+}
+
 TEST_CASE("seam energy: the labelling problem is metric for Hausdorff and the solver never ends above the start",
           "[retarget][energy]") {
   const Prepared& p = prepared("bookshelf");

@@ -3,6 +3,7 @@
 // and the MRF file format.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -11,7 +12,9 @@
 #include <fstream>
 #include <limits>
 #include <random>
+#include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "restitch/solver/alpha_expansion.hpp"
@@ -850,6 +853,141 @@ TEST_CASE("solver: alpha-expansion can be cancelled", "[solver]") {
   CHECK(report.expansions == 2);
   CHECK(restitch::energy(p, labels) <= initial);
   CHECK(report.energy == restitch::energy(p, labels));
+}
+
+namespace {
+
+// Everything a solve reports, for comparing runs bit for bit.
+struct SolveTrace {
+  std::vector<int> labels;
+  std::vector<std::vector<int>> moves;  // the labelling after each accepted move (on_move)
+  std::vector<double> move_energies;
+  SolveReport report;
+  restitch::StatusCode code = StatusCode::ok;
+};
+
+template <class Problem>
+SolveTrace traced_solve(const Problem& p, std::vector<int> start, int threads, bool ties_to_alpha = false,
+                        int stop_after = -1) {
+  SolveTrace t;
+  AlphaExpansion<> solver;
+  solver.threads = threads;
+  solver.min_parallel_size = 0;  // propose side by side however small the problem
+  solver.ties_to_alpha = ties_to_alpha;
+  solver.on_move = [&t](const std::vector<int>& l, double e) {
+    t.moves.push_back(l);
+    t.move_energies.push_back(e);
+  };
+  int calls = 0;
+  const restitch::Progress progress([&](std::string_view, double) { return stop_after < 0 || ++calls < stop_after; });
+  t.code = solver.solve(p, start, t.report, progress).code();
+  t.labels = start;
+  return t;
+}
+
+void check_same_trace(const SolveTrace& a, const SolveTrace& b) {
+  const auto same_bits = [](const std::vector<double>& x, const std::vector<double>& y) {
+    return x.size() == y.size() && (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0);
+  };
+  CHECK(a.code == b.code);
+  CHECK(a.labels == b.labels);
+  CHECK(a.moves == b.moves);
+  CHECK(same_bits(a.move_energies, b.move_energies));
+  CHECK(std::memcmp(&a.report.energy, &b.report.energy, sizeof(double)) == 0);
+  CHECK(a.report.cycles == b.report.cycles);
+  CHECK(a.report.expansions == b.report.expansions);
+  CHECK(a.report.moves_accepted == b.report.moves_accepted);
+  CHECK(a.report.converged == b.report.converged);
+  CHECK(a.report.non_metric_detected == b.report.non_metric_detected);
+  CHECK(same_bits(a.report.cycle_energies, b.report.cycle_energies));
+}
+
+// A problem whose terms may be read from several threads, and that throws when an edge is asked for
+// labels (0, 2): that only happens on a labelling the sequential run has already left (see the test).
+struct ThrowsOnStaleLabelling : TableMrf {
+  using TableMrf::TableMrf;
+  double pairwise(int e, int a, int b) const {
+    if (a == 0 && b == 2) throw std::runtime_error("asked for (0, 2)");
+    return TableMrf::pairwise(e, a, b);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("solver: moves proposed on several threads give the sequential run bit for bit", "[solver][threads]") {
+  // With threads > 1 the next expansions are proposed side by side on the current labelling and taken in
+  // order up to the first accepted one (AlphaExpansion::threads). Labels, energies, every accepted move,
+  // cycles, expansions, the non-metric flag and a cancel at the same progress call must equal the
+  // sequential run's, on metric and non-metric problems, with both tie rules.
+  Rng rng(0x5eed0110);
+  int accepted = 0, cancelled = 0;
+  for (int k = 0; k < 12; ++k) {
+    const int n = 30 + 15 * k, m = 3 + k % 6;
+    const Pairwise kind = k % 3 == 0 ? Pairwise::arbitrary : (k % 3 == 1 ? Pairwise::potts : Pairwise::truncated_linear);
+    const TableMrf p = random_problem(rng, n, m, kind, 2, k % 4 == 0 ? 0.1 : 0.0);
+    const std::vector<int> start = random_labels(rng, n, m);
+    INFO("problem " << k << ": " << n << " nodes, " << m << " labels");
+    for (const bool ties : {false, true}) {
+      const SolveTrace one = traced_solve(p, start, 1, ties);
+      REQUIRE(one.code == StatusCode::ok);
+      accepted += one.report.moves_accepted;
+      for (const int threads : {2, 3, 5}) {
+        INFO(threads << " threads, ties_to_alpha " << ties);
+        check_same_trace(one, traced_solve(p, start, threads, ties));
+      }
+    }
+    // Cancelled at the 3rd progress call: the same labelling so far.
+    const SolveTrace cut = traced_solve(p, start, 1, false, 3);
+    cancelled += cut.code == StatusCode::cancelled;
+    check_same_trace(cut, traced_solve(p, start, 2, false, 3));
+  }
+  CHECK(accepted >= 24);  // moves to disagree about
+  CHECK(cancelled >= 8);
+  // A proposal computed on a labelling the run has left is dropped, whatever it did: here proposing
+  // label 2 on the all-0 start throws, but label 1 is accepted first (every node prefers it), so the
+  // sequential run never asks for (0, 2); neither may the threaded one let it count.
+  ThrowsOnStaleLabelling p(50, 3);
+  for (int i = 0; i < 50; ++i) p.set_unary(i, 0, 10.0), p.set_unary(i, 1, 0.0), p.set_unary(i, 2, 5.0);
+  for (int i = 0; i + 1 < 50; ++i) p.add_edge(i, i + 1, {0, 1, 1, 1, 0, 1, 1, 1, 0});
+  const SolveTrace one = traced_solve(p, std::vector<int>(50, 0), 1);
+  REQUIRE(one.code == StatusCode::ok);
+  CHECK(one.labels == std::vector<int>(50, 1));
+  check_same_trace(one, traced_solve(p, std::vector<int>(50, 0), 2));
+  // An exception from a proposal that counts is reported as the sequential run reports it.
+  ThrowsOnStaleLabelling q(50, 3);
+  for (int i = 0; i < 50; ++i) q.set_unary(i, 0, 10.0), q.set_unary(i, 1, 20.0), q.set_unary(i, 2, 5.0);
+  for (int i = 0; i + 1 < 50; ++i) q.add_edge(i, i + 1, {0, 1, 1, 1, 0, 1, 1, 1, 0});
+  const SolveTrace fails = traced_solve(q, std::vector<int>(50, 0), 1);
+  CHECK(fails.code == StatusCode::internal);
+  CHECK(traced_solve(q, std::vector<int>(50, 0), 2).code == StatusCode::internal);
+}
+
+TEST_CASE("solver: threads are used only where the problem's terms may be read at once", "[solver][threads]") {
+  // A problem without terms_thread_safe() is read from the calling thread only (its terms may fill a
+  // cache on first use): the pairwise calls all come from the calling thread, whatever `threads` says.
+  struct Recording : ChainProblem {
+    mutable std::vector<std::thread::id> callers;
+    double pairwise(int e, int a, int b) const {
+      callers.push_back(std::this_thread::get_id());  // would race if called from several threads
+      return ChainProblem::pairwise(e, a, b);
+    }
+  };
+  Rng rng(0x5eed0111);
+  Recording p;
+  p.n = 400;
+  p.m = 6;
+  p.weight = 0.3;
+  for (int k = 0; k < p.n * p.m; ++k) p.u.push_back(rng.uniform01());
+  STATIC_REQUIRE_FALSE(restitch::detail::has_terms_thread_safe<Recording>::value);
+  AlphaExpansion<> solver;
+  solver.threads = 4;
+  solver.min_parallel_size = 0;
+  std::vector<int> labels(400, 0);
+  SolveReport report;
+  REQUIRE(solver.solve(p, labels, report).ok());
+  REQUIRE(!p.callers.empty());
+  CHECK(std::all_of(p.callers.begin(), p.callers.end(), [](std::thread::id id) { return id == std::this_thread::get_id(); }));
+  STATIC_REQUIRE(restitch::detail::has_terms_thread_safe<TableMrf>::value);
 }
 
 // ---------------------------------------------------------------------------

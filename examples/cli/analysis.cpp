@@ -55,8 +55,8 @@ void add_policy_options(CLI::App* cmd, PolicyNames& policies) {
       ->check(CLI::IsMember(detector_names()))
       ->capture_default_str();
   cmd->add_option("--threads", policies.threads,
-                  "threads for the analysis (descriptors, matching, offset refinement); 0: every hardware thread. "
-                  "The result is the same whatever the number")
+                  "threads for the analysis (descriptors, matching, offset refinement) and, on resize, the solver's "
+                  "expansion moves; 0: every hardware thread. The result is the same whatever the number")
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();
   cmd->add_option("--offsets", policies.offsets,

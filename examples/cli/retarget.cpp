@@ -135,6 +135,7 @@ int run_resize(const ResizeArgs& args) {
   options.move_seams = !args.seams_on_cells;
   if (!parse_seam_energy(args.seam_energy, options.seam_energy)) return exit_usage;  // CLI11 checked it
   options.boundary_edges = true;  // the summary and the JSON report print them
+  options.threads = args.policies.threads;  // the solver's moves too (same labels whatever the count)
   AnyRetargeter r(mesh, *a, args.labels, options);
   if (!r.status()) return fail(r.status());
   Result<Eigen::Array3i> steps = requested_steps(args, *a, r, quiet);
@@ -226,6 +227,7 @@ void register_resize(CLI::App& app, int* exit_code) {
 
 struct SolveArgs {
   std::string input, json, solver = "alpha_expansion";
+  int threads = 0;
 };
 
 // `restitch solve`: returns the exit code.
@@ -234,7 +236,9 @@ int run_solve(const SolveArgs& args) {
   if (!problem) return fail(problem.status());
   std::vector<int> labels(std::size_t(problem->node_count()), 0);
   SolveReport rep;
-  if (Status s = AlphaExpansion<>().solve(*problem, labels, rep, terminal_progress()); !s) return fail(s);
+  AlphaExpansion<> solver;
+  solver.threads = args.threads;
+  if (Status s = solver.solve(*problem, labels, rep, terminal_progress()); !s) return fail(s);
   nlohmann::json j = {{"solver", args.solver}, {"nodes", rep.nodes},
                       {"labels", rep.labels},  {"edges", rep.edges},
                       {"energy", rep.energy},  {"initial_energy", rep.initial_energy},
@@ -254,6 +258,11 @@ void register_solve(CLI::App& app, int* exit_code) {
   CLI::App* cmd = app.add_subcommand("solve", "Solve a labelling problem written by `restitch resize --dump-mrf`");
   cmd->add_option("input", args->input, "problem file (format: restitch/solver/mrf_io.hpp)")->required();
   cmd->add_option("--solver", args->solver, "solver")->check(CLI::IsMember({"alpha_expansion"}))->capture_default_str();
+  cmd->add_option("--threads", args->threads,
+                  "threads proposing expansion moves; 0: every hardware thread. The result is the same whatever "
+                  "the number")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
   cmd->add_option("--json", args->json, "also write the result as JSON to FILE, or - for standard output");
   cmd->callback([args, exit_code] { *exit_code = run_solve(*args); });
 }

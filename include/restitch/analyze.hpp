@@ -77,6 +77,7 @@
 
 #include "restitch/analysis.hpp"
 #include "restitch/descriptor/descriptor.hpp"
+#include "restitch/detail/parallel.hpp"
 #include "restitch/descriptor/fpfh.hpp"
 #include "restitch/descriptor/shot.hpp"
 #include "restitch/lattice/fit.hpp"
@@ -182,19 +183,6 @@ struct AnalysisOptions {
 };
 
 namespace detail {
-
-/// Sets a policy's worker count where it has one (AnalysisOptions::threads); a policy without does
-/// what it always does.
-template <class P>
-auto set_policy_threads(P& p, int n, int) -> decltype(p.threads = n, void()) {
-  p.threads = n;
-}
-template <class P>
-auto set_policy_threads(P& p, int n, long) -> decltype(p.significance.threads = n, void()) {
-  p.significance.threads = n;
-}
-template <class P>
-void set_policy_threads(P&, int, ...) {}
 
 /// Runs one named stage of the analysis: reports progress 0 and 1 around
 /// `body` (a cancel at either gives StatusCode::cancelled naming the stage)

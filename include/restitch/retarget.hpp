@@ -102,6 +102,11 @@ struct RetargetOptions {
   /// tolerance (at most 64 times it). Exact copies, and copies whose vertices do not pair, keep the
   /// stitcher's own.
   bool measure_weld_tolerance = true;
+  /// Threads that propose the solver's expansion moves, set on a solver with a `threads` member
+  /// (AlphaExpansion::threads; the result is bit-identical whatever the count): 1 (default) the calling
+  /// thread, 0 every hardware thread; refused (invalid_argument) outside [0, 1024]. Used where the seam
+  /// energy's terms are computed up front (the descriptor energy) and the problem is large enough.
+  int threads = 1;
 };
 
 /// One seam of an output: two neighbouring output cells (sharing a face) with different labels, or an
@@ -279,6 +284,10 @@ class Retargeter {
              Solver solver = {}, Stitcher stitcher = {})
       : mesh_(&mesh), analysis_(&analysis), options_(options), space_(labels), solver_(solver), stitcher_(stitcher) {
     status_ = detail::guarded("Retargeter", [&]() -> Status {
+      if (options_.threads < 0 || options_.threads > 1024)
+        return error(StatusCode::invalid_argument,
+                     "threads must be 0 (every hardware thread) to 1024, not " + std::to_string(options_.threads));
+      detail::set_policy_threads(solver_, options_.threads, 0);
       RESTITCH_TRY(set_weld_tolerance());
       if (options_.weld_tolerance == 0 && options_.measure_weld_tolerance) measure_weld_tolerance(mesh, analysis);
       RESTITCH_TRY(space_.grid(mesh, analysis, grid_));

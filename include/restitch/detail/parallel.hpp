@@ -53,6 +53,19 @@ inline int resolve_threads(int threads) {
 
 namespace detail {
 
+/// Sets a policy's worker count where it has one (AnalysisOptions::threads, RetargetOptions::threads); a
+/// policy without does what it always does.
+template <class P>
+auto set_policy_threads(P& p, int n, int) -> decltype(p.threads = n, void()) {
+  p.threads = n;
+}
+template <class P>
+auto set_policy_threads(P& p, int n, long) -> decltype(p.significance.threads = n, void()) {
+  p.significance.threads = n;
+}
+template <class P>
+void set_policy_threads(P&, int, ...) {}
+
 /// Runs body(task, worker) for task in [0, tasks) on min(threads, tasks) workers (see the header
 /// comment). Returns false when tick returned false (the run was stopped), true otherwise.
 template <class Body, class Tick>

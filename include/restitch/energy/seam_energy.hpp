@@ -185,6 +185,9 @@ class SeamMrf {
   double unary(int node, int label) const { return unary_[std::size_t(node) * labels_.size() + label]; }
   int edge_count() const { return int(edges_.size()); }
   std::pair<int, int> edge(int e) const { return edges_[std::size_t(e)]; }
+  /// The descriptor term's table is filled when the problem is made, so its terms may be read from
+  /// several threads at once; the geometric term computes entries on first use (AlphaExpansion::threads).
+  bool terms_thread_safe() const { return !slabs_; }
   double pairwise(int e, int li, int lj) const {
     if (li == lj) return 0.0;
     const auto [x, y] = edges_[std::size_t(e)];

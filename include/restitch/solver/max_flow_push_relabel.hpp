@@ -80,6 +80,11 @@ class PushRelabelMaxFlow {
  public:
   using capacity_type = Cap;
 
+  /// Whether max_flow() also finds the sink segment (a backward search of the whole graph). On by
+  /// default; off, in_sink_segment() must not be called (alpha-expansion's default tie rule only asks
+  /// for the source segment and turns it off: one search fewer per move).
+  bool sink_segment = true;
+
   PushRelabelMaxFlow() = default;
   PushRelabelMaxFlow(int node_count_hint, int edge_count_hint) { reset(node_count_hint, edge_count_hint); }
 
@@ -158,7 +163,7 @@ class PushRelabelMaxFlow {
 
   /// Whether node i reaches the sink in the residual graph. Valid after max_flow().
   bool in_sink_segment(int i) const {
-    RESTITCH_ASSERT(solved_, "PushRelabelMaxFlow::in_sink_segment: call max_flow() first");
+    RESTITCH_ASSERT(solved_ && sink_segment, "PushRelabelMaxFlow::in_sink_segment: call max_flow() first, with sink_segment on");
     RESTITCH_ASSERT(i >= 0 && i < node_count(), "PushRelabelMaxFlow::in_sink_segment: node id out of range");
     return (segment_[static_cast<std::size_t>(i)] & kSinkSide) != 0;
   }
@@ -312,6 +317,7 @@ class PushRelabelMaxFlow {
         queue_.push_back(static_cast<int>(u));
       }
     }
+    if (!sink_segment) return;
     global_relabel(to_sink_);
     for (std::size_t v = 0; v < n; ++v)
       if (label_[v] <= node_count()) segment_[v] |= kSinkSide;

@@ -23,7 +23,10 @@
 // (restitch's seam energy uses 1000 x 1000 x the largest descriptor distance, 2e6 for SHOT), never an infinity or NaN. The solver calls unary() and
 // pairwise() many times (about 3 E + N per expansion move), so they should be
 // cheap (a table look-up or a short formula); a problem object is only read.
-// `is_labelling_problem_v<P>` checks the contract at compile time.
+// `is_labelling_problem_v<P>` checks the contract at compile time. Optional:
+// `bool terms_thread_safe() const`, true when unary() and pairwise() may be
+// called from several threads at once (no cache filled on first use), which
+// lets AlphaExpansion::threads propose moves side by side.
 //
 // A solver policy minimises that energy. restitch ships AlphaExpansion
 // (restitch/solver/alpha_expansion.hpp); examples/custom_solver.cpp plugs in
@@ -114,6 +117,8 @@ class TableMrf {
   int node_count() const { return nodes_; }
   int label_count() const { return labels_; }
   int edge_count() const { return static_cast<int>(edges_.size()); }
+  /// Its terms are plain tables: several threads may read them at once (AlphaExpansion::threads).
+  bool terms_thread_safe() const { return true; }
 
   double unary(int node, int label) const { return unary_[unary_index(node, label)]; }
   void set_unary(int node, int label, double value) { unary_[unary_index(node, label)] = value; }
