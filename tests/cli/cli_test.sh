@@ -88,6 +88,16 @@ node -e '
   const b = JSON.parse(require("fs").readFileSync(process.argv[2], "utf8"));
   if (a.nodes !== b.nodes || a.labels !== b.labels || Math.abs(a.energy - b.energy) > 1e-6 * Math.max(1, a.energy)) process.exit(1);
 ' "$work/pins+3.json" "$work/solve.json" && ok || bad "solve of the dumped problem disagrees with resize"
+# The solver's moves on 1 and 3 threads: the same labelling and energy (docs/method.md 2.5); -1 refused.
+expect 0 "$bin" solve "$work/pins+3.mrf" --threads 1 --json "$work/solve1.json"
+expect 0 "$bin" solve "$work/pins+3.mrf" --threads 3 --json "$work/solve3.json"
+node -e '
+  const a = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
+  const b = JSON.parse(require("fs").readFileSync(process.argv[2], "utf8"));
+  delete a.ms; delete b.ms;
+  if (JSON.stringify(a) !== JSON.stringify(b)) process.exit(1);
+' "$work/solve1.json" "$work/solve3.json" && ok || bad "solve --threads 1 and 3 disagree"
+expect 2 "$bin" solve "$work/pins+3.mrf" --threads -1
 # Seams (docs/method.md 2.8): every seam in the JSON with its mismatch, the worst one printed; none over
 # the default tolerance on the exact pin header; a tolerance of 1e-9 (below any sampling noise) makes
 # every seam a warning on stderr and in the JSON; --strict turns that into exit 7 (the output is written).
