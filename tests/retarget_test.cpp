@@ -43,13 +43,24 @@ int axis_of(const Lattice& L, const Eigen::Vector3d& g) {
 
 // `out` equals `truth` in place: bounding boxes, and the symmetric surface distance, within 1e-4 of the
 // diagonal.
-void check_same_model(const Mesh& out, const Mesh& truth) {
+// In place (the generators' origin is the pivot), within 1e-4 of the size, and no more open than the
+// generated model: no more open edges (positions welded), except where a seam plane cuts an edge the
+// input already had open in two (the facades' window reveals), so also no more open length.
+enum class Open { edges, length, unchecked };
+void check_same_model(const Mesh& out, const Mesh& truth, Open open_check = Open::edges) {
   const BoundingBox bt = bounding_box(truth), bo = bounding_box(out);
   const double size = bt.size().norm();
   CHECK((bt.min - bo.min).norm() < 1e-4 * size);
   CHECK((bt.max - bo.max).norm() < 1e-4 * size);
   CHECK(restitch::test::symmetric_surface_distance(out, truth, 0.004 * size) < 1e-4 * size);
+  if (open_check == Open::unchecked) return;
+  const double open = restitch::test::open_boundary_length(truth);
+  CHECK(restitch::test::open_boundary_length(out) <= open + 1e-6 * (1 + open));
+  if (open_check == Open::edges) CHECK(boundary_edge_count(out) <= boundary_edge_count(truth));
 }
+// The facades' seam planes cut edges their inputs have open (window reveals) in two: more open edges
+// than the generated model, no more open length.
+Open open_check_of(const std::string& family) { return family.rfind("facade", 0) == 0 ? Open::length : Open::edges; }
 
 // Steps of `k` along sample generator `g` (the lattice axis parallel to it).
 Eigen::Array3i steps_along(const Prepared& p, std::size_t g, int k) {
@@ -78,7 +89,7 @@ TEST_CASE("retarget: each sample family resized by k steps equals the family gen
         REQUIRE(out.ok());
         auto truth = families::generate(info.name, {{p.sample.count_parameters[g], p.sample.counts[g] + k}});
         REQUIRE(truth.ok());
-        check_same_model(out->mesh, truth->mesh);
+        check_same_model(out->mesh, truth->mesh, open_check_of(info.name));
         CHECK(out->report.labels == std::abs(k) + 1);
         CHECK(out->report.nodes == out->report.cells_out.prod());
         CHECK(validate(out->mesh).ok());
@@ -473,7 +484,7 @@ TEST_CASE("retarget: with either seam energy the sample families at 3, 4 and 5 r
             REQUIRE(out.ok());
             auto truth = families::generate(info.name, {{s->count_parameters[g], s->counts[g] + k}});
             REQUIRE(truth.ok());
-            check_same_model(out->mesh, truth->mesh);
+            check_same_model(out->mesh, truth->mesh, open_check_of(info.name));
             // An exact result has no seam over the tolerance. (The fence shrunk to one picket warned until
             // the seam measure left out the part of a face an end cap covers: its post tops take the other
             // end's label and get their post from the cap; docs/method.md 2.8.)
@@ -527,7 +538,7 @@ TEST_CASE("retarget: families at 2 repeats, along the generator promoted when it
       REQUIRE(out.ok());
       auto truth = families::generate(c.family, {{c.count, 2 + k}});
       REQUIRE(truth.ok());
-      check_same_model(out->mesh, truth->mesh);
+      check_same_model(out->mesh, truth->mesh, open_check_of(c.family));
       CHECK(out->report.warnings.empty());
     }
     // Shrunk to one cell with the geometric energy: both ends' caps meet in that cell; no seam may be
@@ -543,7 +554,12 @@ TEST_CASE("retarget: families at 2 repeats, along the generator promoted when it
     REQUIRE(out.ok());
     auto truth = families::generate(c.family, {{c.count, 1}});
     REQUIRE(truth.ok());
-    check_same_model(out->mesh, truth->mesh);
+    // Not the open edges here (README, Known limits): the geometric energy gives the 2-pin header shrunk
+    // to one pin one cell of the other label (its low end from the cap), and the cap's and the region's
+    // copies meet at T-junctions on the body's ends: 40 open edges where the 1-pin part has 16 (positions
+    // welded), though the surface is the part's. The descriptor energy's results above are checked.
+    check_same_model(out->mesh, truth->mesh,
+                     std::string(c.family) == "pin_header" ? Open::unchecked : open_check_of(c.family));
     CHECK(out->report.max_seam_mismatch < bounding_box(truth->mesh).size().norm());
     CHECK(out->report.warnings.empty());
   }
