@@ -51,6 +51,18 @@ TEST_CASE("analysis recovers the generators of every sample family", "[analysis]
       for (std::size_t k = 0; k < found.size(); ++k) CHECK(L.A.col(Eigen::Index(k)).isApprox(found[k], 1e-9));
       CHECK((L.cells >= 1).all());
       CHECK(std::abs(L.A.determinant()) > 0);
+      // The dummy directions are made from the principal offsets as snapped onto the vertices (exact world
+      // axes for these axial repeats): made from the offsets before the snap, they kept the refinement's
+      // noise (the pin header's lay 1.8e-5 off the y axis, the bookshelf's depth axis 1.8e-4 off z), and
+      // every cell plane cut the model on a slant (docs/method.md 1.6, Dummy directions).
+      for (int d = 0; d < 3; ++d) {
+        if (!L.dummy[std::size_t(d)]) continue;
+        const Vector3d u = L.A.col(d).normalized();
+        for (const Vector3d& f : found) CHECK(std::abs(u.dot(f.normalized())) <= 1e-12);
+        int nonzero = 0;
+        for (int k = 0; k < 3; ++k) nonzero += u[k] != 0.0;
+        CHECK(nonzero == 1);
+      }
       // The part test is skipped exactly on offsets the principal lattice holds: each offset that
       // records a failed part_new is, within the overlap radius (1.5 dense spacings), a non-zero
       // integer combination of the principal offsets, and its part did not run. The bookshelf and

@@ -423,6 +423,7 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       if (const SnapResult snapped = snap_offset(*vertices, axis, options.snap); snapped.snapped) axis = snapped.offset;
     a.principal.push_back(axis);
   }
+  complete_with_dummies(a.axes, options.dummy_length);  // orthogonal to the snapped axes
   Result<LatticeFit> fit = fit_lattice(mesh, a.normalization, a.dense, a.axes, options.lattice);
   if (!fit) return fit.status();
   a.lattice = fit->lattice;

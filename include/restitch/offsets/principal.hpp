@@ -130,6 +130,8 @@ inline std::vector<Eigen::Vector3d> reduce_to_fundamentals(const std::vector<Eig
   return out;
 }
 
+inline void complete_with_dummies(PrincipalOffsets& p, double dummy_length = 0.2);
+
 /// The greedy selection and the dummies (see header). `dominant` in ranked order.
 inline PrincipalOffsets select_principal_offsets(const std::vector<Eigen::Vector3d>& dominant,
                                                  double min_angle = 3.14159265358979323846 / 3,
@@ -146,6 +148,15 @@ inline PrincipalOffsets select_principal_offsets(const std::vector<Eigen::Vector
     p.source[std::size_t(p.real_count)] = int(i);
     ++p.real_count;
   }
+  complete_with_dummies(p, dummy_length);
+  return p;
+}
+
+/// Sets the dummy directions of p (axes[real_count ..]) from its real axes, as the header says. The
+/// analysis calls it again once the real axes are snapped onto the vertices: dummies made orthogonal to
+/// an offset before it was snapped keep its noise (a drawer pitch 1e-4 off the y axis tilted every cell
+/// plane across the dresser by as much, so each seam cut its boards on a slant).
+inline void complete_with_dummies(PrincipalOffsets& p, double dummy_length) {
   const auto dummy = [&](const Eigen::Vector3d& dir) { return canonical_sign(dir.normalized() * dummy_length); };
   if (p.real_count == 2) {
     p.axes[2] = dummy(p.axes[0].cross(p.axes[1]));
@@ -162,7 +173,6 @@ inline PrincipalOffsets select_principal_offsets(const std::vector<Eigen::Vector
   } else if (p.real_count == 0) {
     for (int a = 0; a < 3; ++a) p.axes[std::size_t(a)] = Eigen::Vector3d::Unit(a) * dummy_length;
   }
-  return p;
 }
 
 }  // namespace restitch
