@@ -398,7 +398,7 @@ class ProposalPipeline {
     }
     work_.notify_all();
   }
-  /// The caller is about to change the labelling after position pos: returns when no proposal runs.
+  /// The caller is about to change the labelling: no proposal starts, and this returns when none runs.
   void hold() {
     std::unique_lock<std::mutex> lock(mutex_);
     held_ = true;
