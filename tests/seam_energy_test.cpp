@@ -126,6 +126,7 @@ struct ContractEnergy {
     double u = inside(x - d, in()) ? 0 : forbidden;
     for (int a = 0; a < 3; ++a) {
       if (k[a] == 0) continue;
+      if (out()[a] == 1) continue;  // one cell long: both ends capped whatever the label, no anchor
       if (x[a] == 0) {
         Eigen::Array3i anchor = d, outside = x;
         anchor[a] = 0;

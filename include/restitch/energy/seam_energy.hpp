@@ -353,7 +353,11 @@ class SeamMrf {
       for (int l = 0; l < m; ++l) {
         double u = in_.inside(cx - labels_[l]) ? 0.0 : forbidden_;
         for (int a = 0; a < 3; ++a) {
-          if (k_[a] == 0) continue;
+          // An output one cell long along a has every cell on both ends, and the stitcher caps whichever
+          // end a label does not carry (docs/method.md 3, end caps): both ends are the input's whatever
+          // the label, so the anchors say nothing there. Their costs differ from cell to cell, though,
+          // and gave single cells the other label, whose caps meet their neighbours at T-junctions.
+          if (k_[a] == 0 || out_.dims[a] == 1) continue;
           for (int side = 0; side < 2; ++side) {
             const bool on_face = side == 0 ? cx[a] == 0 : cx[a] == out_.dims[a] - 1;
             if (!on_face) continue;
