@@ -52,10 +52,13 @@
 // back end's capacity type must be floating point.
 //
 // Determinism: labels, edges and arcs are visited in a fixed order, no
-// threads, no randomness: the same input gives the same labels bit for bit.
-// Memory: O(N + E) scratch allocated once per solve() (plus the back end's
-// graph, reused across moves through reset()); no allocation inside the label
-// loop. Cost per expansion: N unary and about 3 E pairwise calls, one
+// randomness: the same input gives the same labels bit for bit. With
+// `threads` > 1 the next moves are proposed on several threads, but taken in
+// the sequential order on the labelling the sequential loop shows them
+// (AlphaExpansion::threads), so the result does not depend on the count.
+// Memory: O(N + E) scratch allocated once per solve() and thread (plus the
+// back end's graph, reused across moves through reset()); no allocation
+// inside the label loop. Cost per expansion: N unary and about 3 E pairwise calls, one
 // max-flow, then pairwise calls for the edges of nodes that moved.
 #pragma once
 
