@@ -67,7 +67,8 @@ struct RetargetOptions {
   /// The pairwise term solved (docs/method.md 2.4, 2.4b): the paper's descriptor sets of whole cells
   /// (default) or the geometry at the seam. The seams are measured on the geometry either way.
   /// Descriptor is the default because it was measured better on the real models (README, Seam energy):
-  /// the geometric energy's first request of a new size costs 0.1-2.2 s and it shrinks some wrongly.
+  /// the geometric energy's first request of a new size costs more (up to 149 ms on the shared models in
+  /// session 15, against 24 ms) and it shrinks some wrongly.
   SeamEnergy seam_energy = SeamEnergy::descriptor;
   /// A seam whose mismatch (model units) exceeds this is reported in RetargetReport::warnings.
   /// 0 (default): 3 x the sample spacing (CellSlabs::spacing), see docs/method.md 2.8.
