@@ -343,9 +343,9 @@ struct has_terms_thread_safe<P, std::void_t<decltype(std::declval<const P&>().te
 /// positions past the last one the caller took (one only after an accepted move: moves tend to be
 /// accepted in runs, early in a solve, and rejected in runs, at its end, where proposing ahead pays);
 /// the caller takes them in order (take), proposing the next one itself while the one it waits for is
-/// still being computed, so no core waits while there is work. Before the caller changes the labelling it holds the helpers (hold: none starts a proposal, the
-/// running ones finish), and resume drops every proposal made on the old labelling and starts again
-/// from the next position. The destructor stops the helpers and joins them (a running proposal finishes
+/// still being computed, so no core waits while there is work. Before the caller changes the labelling
+/// it holds the helpers (hold: none starts a proposal, the running ones finish), and resume drops every
+/// proposal made on the old labelling and starts again from the next position. The destructor stops the helpers and joins them (a running proposal finishes
 /// first). A helper that cannot be started is not used.
 template <class Run>
 class ProposalPipeline {
@@ -574,8 +574,8 @@ class AlphaExpansion {
         const int cycle = static_cast<int>(p / m), alpha = static_cast<int>(p % m);
         report.cycles = cycle + 1;
         Status st;
-        const typename Run::Move& mv = pipeline ? pipeline->take(p, st) : own;
         if (!pipeline) st = run.propose(alpha, own, scratch);
+        const typename Run::Move& mv = pipeline ? pipeline->take(p, st) : own;
         if (!st.ok()) return finish(st);
         run.count(mv);
         ++report.expansions;
