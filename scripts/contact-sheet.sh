@@ -6,7 +6,7 @@
 #
 # MODELS_DIR defaults to ../shared/models next to the repository; it is skipped with a message when
 # absent. Writes OUT_DIR/contact-sheet.png (3 columns of 300 px cells, labelled) and
-# OUT_DIR/contact-sheet-small.png (thumbnails, for the README), plus the models, the analyze/resize
+# OUT_DIR/contact-sheet-small.png (thumbnails, for docs/contact-sheet.png), plus the models, the analyze/resize
 # JSON reports and OUT_DIR/manifest.json that lists what each cell shows. A resize that fails is
 # recorded in its cell (exit code and the first line of its error), not fatal; a renderer that fails
 # is (non-zero exit, no PNG half written).

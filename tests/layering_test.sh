@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The library's include layering (README "Layout"): data apart from drivers, opt-in headers kept out of the umbrella.
+# The library's include layering (docs/README.md, "Layout"): data apart from drivers, opt-in headers kept out of the umbrella.
 #   tests/layering_test.sh SOURCE_DIR
 # Fails, naming the offending include, when
 #   * a header other than the umbrella and runtime.hpp includes the analysis driver (restitch/analyze.hpp);

@@ -41,7 +41,7 @@ const Expected kFound[] = {
     {"katorlegaz_MIDI-keyboard.glb", {0.3438, 0, 0}},
 };
 // Listed repeats longer than tau that restitch does NOT find today (see the
-// README's "Known limits"; values in docs/method.md 1.5.1): the BlendSwap
+// docs/results.md, "Known limits in detail"; values in docs/method.md 1.5.1): the BlendSwap
 // radiator's sections (irregular pitch 6.30-7.25: found at 6.448, not within
 // 1% of a single pitch) and window_4x5's muntins 39.75 along y (on their part
 // ICP finds 39.70, but the kink at twice the offset is 0.003 < 0.01). Shorter
@@ -51,7 +51,7 @@ const Expected kFound[] = {
 // pallet's stringers and the dresser's columns are candidates (kCandidates
 // below). Mirror repeats are not translations: the
 // Japanese screen's panels fold in a zig-zag, and their two-panel translate
-// (89.07) overlaps 0.255 < 1/3 (README "Known limits"); window_4x5's leaves are
+// (89.07) overlaps 0.255 < 1/3 (docs/results.md, "Known limits in detail"); window_4x5's leaves are
 // mirrored pairs of two widths.
 
 // Listed repeats reported as candidates (docs/method.md 1.10): the pattern test takes them for pairs
@@ -69,7 +69,8 @@ bool same_repeat(const Eigen::Vector3d& v, const Eigen::Vector3d& e) {
 
 // Models whose resizes along their first principal offset (+2 and -1 steps) open no edge: boundary
 // edges out <= in (positions welded, restitch/mesh_boundary.hpp). The others, with their measured
-// numbers, are listed in the README's "Known limits" (seams on geometry that does not repeat exactly).
+// numbers, are listed in docs/results.md, "Open edges on the real models" (seams on geometry that
+// does not repeat exactly).
 const char* const kStaysClosed[] = {
     "blendswap-cc0_pallet.glb",            // 0 in, 0 out at +2 and -1 (96 before the T-junction repair)
     "scopia_japanese_style_screen.glb",    // 0 in, 0 out (256 before the repair)

@@ -455,7 +455,7 @@ struct LastLabelSolver {
 TEST_CASE("retarget: with either seam energy the sample families at 3, 4 and 5 repeats grown by 1 and 3, "
           "shrunk by 1 and down to one repeat equal the family generated at that count",
           "[retarget][samples][slow]") {
-  CHECK(RetargetOptions().seam_energy == SeamEnergy::descriptor);  // the default (README, Seam energy)
+  CHECK(RetargetOptions().seam_energy == SeamEnergy::descriptor);  // the default (docs/cli.md, Seam energy)
   for (const families::SampleInfo& info : families::catalog()) {
     auto base = families::generate(info.name);
     REQUIRE(base.ok());

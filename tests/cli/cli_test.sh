@@ -266,7 +266,7 @@ done
 expect_error 6 "cannot write" "$bin" convert "$work/good.glb" -o "$work/no/such/dir/out.glb"
 expect_error 2 "must end in" "$bin" convert "$work/good.glb" -o "$work/out.obj"
 expect_error 2 "must end in" "$bin" resize "$work/good.glb" -o "$work/out.obj" --steps 1
-# The rest of README's table of bad inputs (each row's exit code and message).
+# The rest of the table of bad inputs in docs/robustness.md (each row's exit code and message).
 : > "$work/zero.glb"
 expect_error 3 "empty" "$bin" info "$work/zero.glb"
 printf '{"asset":{"version":"2.0"},"buffers":[{"byteLength":42,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAkA"}],"bufferViews":[{"buffer":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"},{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0}' > "$work/index.gltf"

@@ -1,6 +1,6 @@
 // Analysis wall time, per stage, of every sample family (defaults) and every model of ../shared/models:
 // best of REPS runs each, and a total. The same source builds against any commit's include/, so two
-// commits can be compared run for run (session 6 compared main with 196638d, interleaving the runs;
+// commits can be compared run for run (e.g. main against 196638d, interleaving the runs;
 // for commits before the part test, delete the DUMP block, which reads its fields).
 // DUMP=1 also prints each analysis's dominant offsets, lattice and candidate count, to check that a
 // speed change keeps the answers bit for bit (diff two runs' outputs without the timing lines).

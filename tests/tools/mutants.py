@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Seeded mutants of glTF models run through the command line (issue 12's check, reproducible).
+"""Seeded mutants of glTF models run through the command line (docs/robustness.md, "Mutants of real files").
 
     tests/tools/mutants.py RESTITCH_BINARY OUT_DIR MODEL.glb [MODEL.glb ...] [--per-model N] [--seed S]
 
