@@ -4,7 +4,7 @@
 #   scripts/install-deps.sh --native only what the native library and CLI need
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-native=(cmake make g++ libeigen3-dev libnanoflann-dev libtinygltf-dev nlohmann-json3-dev catch2 libcli11-dev)
+native=(cmake make ninja-build g++ libeigen3-dev libnanoflann-dev libtinygltf-dev nlohmann-json3-dev catch2 libcli11-dev)
 web=(emscripten chromium nodejs npm clang-14 libclang-rt-14-dev)  # and the fuzz targets (scripts/fuzz.sh)
 want=("${native[@]}")
 [ "${1:-}" = "--native" ] || want+=("${web[@]}")

@@ -31,7 +31,11 @@ stage() { echo; echo "=== restitch: $* ==="; }
 build() {  # build DIR "TARGETS" [cmake args...]   (TARGETS "" = all)
   local dir="$1" targets="$2"; shift 2
   local t=(); [ -n "$targets" ] && t=(--target $targets)
-  cmake -S "$root" -B "$dir" "$@" >/dev/null && cmake --build "$dir" "${t[@]}" -j "$jobs" || { broken=$((broken + 1)); return 1; }
+  # Ninja starts a target's units while the libraries it links are still compiling (Make waits).
+  if [ -f "$dir/CMakeCache.txt" ] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$dir/CMakeCache.txt"; then
+    rm -rf "$dir"
+  fi
+  cmake -S "$root" -B "$dir" -G Ninja "$@" >/dev/null && cmake --build "$dir" "${t[@]}" -j "$jobs" || { broken=$((broken + 1)); return 1; }
 }
 
 stage "native build and tests"

@@ -38,6 +38,7 @@
 #include "restitch/io/gltf.hpp"
 #include "restitch/io/json_report.hpp"
 #include "restitch/restitch.hpp"
+#include "restitch/runtime.hpp"
 
 using namespace restitch;
 using clock_type = std::chrono::steady_clock;

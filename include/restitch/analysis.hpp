@@ -38,7 +38,8 @@ struct RepeatCandidate {
 };
 
 /// The world axis an offset runs along: the one of its largest component (the lowest axis on a tie).
-inline int world_axis_of(const Eigen::Vector3d& v) {
+template <class = void>
+int world_axis_of(const Eigen::Vector3d& v) {
   int k = 0;
   for (int a = 1; a < 3; ++a)
     if (std::abs(v[a]) > std::abs(v[k])) k = a;
@@ -68,6 +69,7 @@ struct Analysis {
   std::string descriptor_name, matcher_name, detector_name;
 
   /// The real principal offsets in model units.
+  template <class = void>
   std::vector<Eigen::Vector3d> principal_model_units() const {
     std::vector<Eigen::Vector3d> out;
     for (const Eigen::Vector3d& v : principal) out.push_back(normalization.to_model_offset(v));
@@ -76,6 +78,7 @@ struct Analysis {
   /// For a size change along the world axes marked in `change`: per such axis along which no principal
   /// offset runs (world_axis_of), the index in `candidates` of the first candidate that runs along it,
   /// in axis order; axes with neither are left out. The caller promotes them (promote_offsets) and says so.
+  template <class = void>
   std::vector<int> candidates_for_axes(const std::array<bool, 3>& change) const {
     std::array<bool, 3> covered{{false, false, false}};
     for (const Eigen::Vector3d& p : principal) covered[std::size_t(world_axis_of(p))] = true;

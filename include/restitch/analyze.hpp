@@ -77,6 +77,7 @@
 
 #include "restitch/analysis.hpp"
 #include "restitch/descriptor/descriptor.hpp"
+#include "restitch/detail/instantiation.hpp"
 #include "restitch/detail/parallel.hpp"
 #include "restitch/descriptor/fpfh.hpp"
 #include "restitch/descriptor/shot.hpp"
@@ -204,7 +205,8 @@ Status analysis_stage(const char* stage, const Progress& progress, std::map<std:
 /// The unique positions of the vertices the faces use, normalized, in a fixed (sorted) order: the
 /// points offsets are snapped onto (offsets/snap.hpp). A vertex no face uses is not geometry (and may
 /// lie anywhere: it would be far outside the normalized box).
-inline Eigen::Matrix<double, Eigen::Dynamic, 3> unique_normalized_vertices(const Mesh& mesh,
+template <class = void>
+Eigen::Matrix<double, Eigen::Dynamic, 3> unique_normalized_vertices(const Mesh& mesh,
                                                                            const Normalization& normalization) {
   std::vector<std::array<float, 3>> unique;
   unique.reserve(std::size_t(mesh.F.size()));
@@ -376,7 +378,8 @@ Status find_short_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
 /// principal, each skipped when it is an integer combination of the principal offsets or a multiple of
 /// an earlier candidate. Ranked as Analysis::dominant. Offsets as refined, not snapped: snapping costs
 /// O(#vertices) per offset, and a promoted candidate is snapped as a principal offset anyway.
-inline void collect_candidates(double tolerance, Analysis& a) {
+template <class = void>
+void collect_candidates(double tolerance, Analysis& a) {
   a.candidates.clear();
   std::vector<Eigen::Vector3d> taken;  // the candidates so far
   for (const bool pairs : {true, false})
@@ -445,7 +448,8 @@ Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>&
 }
 
 /// The vertex features of an analysis (features [sampled_features, end)): the ICP anchors.
-inline PointSet vertex_anchors(const Analysis& a) {
+template <class = void>
+PointSet vertex_anchors(const Analysis& a) {
   PointSet v;
   const Eigen::Index first = Eigen::Index(a.sampled_features), n = a.features.size() - first;
   if (n <= 0) return v;
@@ -595,5 +599,10 @@ Status promote_offsets(const Mesh& mesh, const AnalysisOptions<D, M, Det>& optio
     return {};
   });
 }
+
+// The compiled mode (restitch/detail/instantiation.hpp): the default policies.
+RESTITCH_INSTANTIATE(Result<Analysis> analyze(const Mesh&, const AnalysisOptions<>&, const Progress&))
+RESTITCH_INSTANTIATE(Status promote_offsets(const Mesh&, const AnalysisOptions<>&, const std::vector<Eigen::Vector3d>&,
+                                            Analysis&))
 
 }  // namespace restitch

@@ -66,6 +66,7 @@ struct AttributeSet {
   bool tangents = false;
   int uv_sets = 0;           ///< TEXCOORD_0 .. TEXCOORD_{uv_sets-1}
   int color_components = 0;  ///< 0 (none), 3 (RGB) or 4 (RGBA)
+  template <class = void>
   bool operator==(const AttributeSet& o) const {
     return normals == o.normals && tangents == o.tangents && uv_sets == o.uv_sets &&
            color_components == o.color_components;
@@ -108,6 +109,7 @@ struct BoundingBox {
   bool valid() const { return (min.array() <= max.array()).all(); }
   Eigen::Vector3d size() const { return valid() ? Eigen::Vector3d(max - min) : Eigen::Vector3d::Zero(); }
   Eigen::Vector3d center() const { return 0.5 * (min + max); }
+  template <class = void>
   void extend(const Eigen::Vector3d& p) {
     min = min.cwiseMin(p);
     max = max.cwiseMax(p);
@@ -115,17 +117,19 @@ struct BoundingBox {
 };
 
 /// Bounding box of the vertices referenced by faces. Cost O(#F).
-inline BoundingBox bounding_box(const Mesh& m) {
+template <class = void>
+BoundingBox bounding_box(const Mesh& m) {
   BoundingBox b;
   for (Eigen::Index f = 0; f < m.F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) b.extend(m.V.row(m.F(f, k)).transpose().cast<double>());
+    for (int k = 0; k < 3; ++k) b.extend(m.V.row(m.F(f, k)).transpose().template cast<double>());
   return b;
 }
 
 /// The largest |coordinate| of the vertices the faces use (0 without faces). Vertices no face uses are
 /// not geometry (glTF allows them anywhere): tolerances derived from coordinates ignore them, as
 /// bounding_box does.
-inline double max_abs_coordinate(const Mesh& m) {
+template <class = void>
+double max_abs_coordinate(const Mesh& m) {
   double out = 0;
   for (Eigen::Index f = 0; f < m.F.rows(); ++f)
     for (int k = 0; k < 3; ++k) out = std::max(out, double(m.V.row(m.F(f, k)).cwiseAbs().maxCoeff()));
@@ -133,9 +137,10 @@ inline double max_abs_coordinate(const Mesh& m) {
 }
 
 /// Twice the area of face f (the norm of the cross product of two edges).
-inline double double_area(const Mesh& m, Eigen::Index f) {
-  const Eigen::Vector3d a = m.V.row(m.F(f, 0)).cast<double>(), b = m.V.row(m.F(f, 1)).cast<double>(),
-                        c = m.V.row(m.F(f, 2)).cast<double>();
+template <class = void>
+double double_area(const Mesh& m, Eigen::Index f) {
+  const Eigen::Vector3d a = m.V.row(m.F(f, 0)).template cast<double>(), b = m.V.row(m.F(f, 1)).template cast<double>(),
+                        c = m.V.row(m.F(f, 2)).template cast<double>();
   return (b - a).cross(c - a).norm();
 }
 
@@ -144,7 +149,8 @@ inline double double_area(const Mesh& m, Eigen::Index f) {
 /// channel sizes consistent, and a non-zero surface area. Degenerate
 /// (zero-area) triangles are allowed as long as some triangle is not.
 /// Cost O(#V + #F).
-inline Status validate(const Mesh& m) {
+template <class = void>
+Status validate(const Mesh& m) {
   const Eigen::Index nv = m.V.rows();
   if (m.F.rows() == 0) return error(StatusCode::invalid_mesh, "the mesh has no triangles");
   for (Eigen::Index i = 0; i < nv; ++i)

@@ -37,13 +37,15 @@
 namespace restitch {
 
 /// The weld tolerance of mesh m (see the file comment), in model units.
-inline double weld_tolerance_of(const Mesh& m, double relative_tolerance = 1e-6) {
+template <class = void>
+double weld_tolerance_of(const Mesh& m, double relative_tolerance = 1e-6) {
   return std::max(relative_tolerance * bounding_box(m).size().norm(), 8.0 * double(FLT_EPSILON) * max_abs_coordinate(m));
 }
 
 /// The representative of every vertex when positions within `tol` are welded
 /// (step 1 of the file comment). rep[i] <= i, and rep[rep[i]] == rep[i].
-inline std::vector<std::uint32_t> weld_positions(const Mesh& m, double tol) {
+template <class = void>
+std::vector<std::uint32_t> weld_positions(const Mesh& m, double tol) {
   const std::size_t nv = m.vertex_count();
   std::vector<std::uint32_t> rep(nv);
   for (std::size_t i = 0; i < nv; ++i) rep[i] = std::uint32_t(i);
@@ -84,7 +86,8 @@ inline std::vector<std::uint32_t> weld_positions(const Mesh& m, double tol) {
 }
 
 /// Boundary edges of m with positions welded at `tol` (see the file comment).
-inline std::size_t boundary_edge_count_at(const Mesh& m, double tol) {
+template <class = void>
+std::size_t boundary_edge_count_at(const Mesh& m, double tol) {
   const std::vector<std::uint32_t> rep = weld_positions(m, tol);
   // Edges bucketed by their lower corner (a counting sort), each bucket sorted by the higher one:
   // O(#F) plus tiny sorts, instead of one O(#F log #F) sort.
@@ -117,7 +120,8 @@ inline std::size_t boundary_edge_count_at(const Mesh& m, double tol) {
 }
 
 /// Boundary edges of m at its weld tolerance (relative to the bounding-box diagonal).
-inline std::size_t boundary_edge_count(const Mesh& m, double relative_tolerance = 1e-6) {
+template <class = void>
+std::size_t boundary_edge_count(const Mesh& m, double relative_tolerance = 1e-6) {
   return boundary_edge_count_at(m, weld_tolerance_of(m, relative_tolerance));
 }
 

@@ -19,6 +19,7 @@ struct Normalization {
   double scale = 1.0;  ///< normalized length per model unit
 
   /// The normalization of a bounding box; scale 1 for a degenerate (zero-size) box.
+  template <class = void>
   static Normalization of(const BoundingBox& box) {
     Normalization n;
     if (!box.valid()) return n;

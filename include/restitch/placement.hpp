@@ -51,7 +51,8 @@ enum class Pivot { origin, min, center, max };
 /// One pivot per world axis x, y, z.
 using Pivots = std::array<Pivot, 3>;
 
-inline const char* pivot_name(Pivot p) {
+template <class = void>
+const char* pivot_name(Pivot p) {
   switch (p) {
     case Pivot::origin: return "origin";
     case Pivot::min: return "min";
@@ -62,7 +63,8 @@ inline const char* pivot_name(Pivot p) {
 }
 
 /// "origin", "min", "center" or "max" for all three axes, or three of them comma-separated for x,y,z.
-inline Result<Pivots> parse_pivots(const std::string& text) {
+template <class = void>
+Result<Pivots> parse_pivots(const std::string& text) {
   auto one = [](const std::string& s, Pivot& out) {
     for (Pivot p : {Pivot::origin, Pivot::min, Pivot::center, Pivot::max})
       if (s == pivot_name(p)) return out = p, true;
@@ -101,7 +103,8 @@ struct Placement {
 
 /// The placement of a resize by lattice `steps` (per axis of `L`, the analysis lattice) of a model whose
 /// bounding box is `box`, with `modes` per world axis.
-inline Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& steps, const Pivots& modes) {
+template <class = void>
+Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& steps, const Pivots& modes) {
   Placement out;
   out.modes = modes;
   const Eigen::Vector3d origin = Eigen::Vector3d::Zero().cwiseMax(box.min).cwiseMin(box.max);
@@ -146,7 +149,8 @@ inline Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Ar
 
 /// Scales `m` by `factors` along the world axes about `pivot`: positions, normals (inverse transpose,
 /// renormalised) and tangents (xyz scaled and renormalised, w kept). Factors must be positive.
-inline void scale_about(Mesh& m, const Eigen::Vector3d& factors, const Eigen::Vector3d& pivot) {
+template <class = void>
+void scale_about(Mesh& m, const Eigen::Vector3d& factors, const Eigen::Vector3d& pivot) {
   for (Eigen::Index v = 0; v < m.V.rows(); ++v)
     for (int i = 0; i < 3; ++i) m.V(v, i) = float(pivot[i] + (double(m.V(v, i)) - pivot[i]) * factors[i]);
   auto rescale = [](float* p, const Eigen::Vector3d& f) {
@@ -162,7 +166,8 @@ inline void scale_about(Mesh& m, const Eigen::Vector3d& factors, const Eigen::Ve
 }
 
 /// Translates every vertex of `m` by `t`.
-inline void translate(Mesh& m, const Eigen::Vector3d& t) {
+template <class = void>
+void translate(Mesh& m, const Eigen::Vector3d& t) {
   if (t.isZero()) return;
   for (Eigen::Index v = 0; v < m.V.rows(); ++v)
     for (int i = 0; i < 3; ++i) m.V(v, i) = float(double(m.V(v, i)) + t[i]);

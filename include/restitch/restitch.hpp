@@ -29,8 +29,17 @@
 // code most programs do not need: restitch/io/gltf.hpp (glTF I/O, tinygltf),
 // restitch/io/json_report.hpp (JSON reports, nlohmann::json),
 // restitch/families/families.hpp (the generated sample families with exact
-// ground truth), restitch/descriptor/xyzn.hpp (point files) and
-// restitch/solver/mrf_io.hpp (labelling-problem files).
+// ground truth), restitch/descriptor/xyzn.hpp (point files),
+// restitch/solver/mrf_io.hpp (labelling-problem files) and
+// restitch/runtime.hpp (the shipped policies chosen by name at run time: it
+// instantiates every combination it can name, which a program that names
+// its policies in code does not need).
+//
+// Compile cost: every function body here is a template (most with a defaulted
+// `class = void` parameter), so a unit pays only for what it calls. Programs
+// with many units can link the compiled mode (restitch/instantiate.hpp, CMake
+// target restitch::compiled): the default policies are instantiated once and
+// the other units see `extern template` declarations.
 #pragma once
 
 #include "restitch/analyze.hpp"
@@ -45,7 +54,6 @@
 #include "restitch/offsets/autocorrelation.hpp"
 #include "restitch/placement.hpp"
 #include "restitch/retarget.hpp"
-#include "restitch/runtime.hpp"
 #include "restitch/solver/alpha_expansion.hpp"
 #include "restitch/solver/max_flow_bk.hpp"
 #include "restitch/solver/max_flow_push_relabel.hpp"

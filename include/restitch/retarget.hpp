@@ -51,6 +51,7 @@
 #include <vector>
 
 #include "restitch/analysis.hpp"
+#include "restitch/detail/instantiation.hpp"
 #include "restitch/energy/seam_energy.hpp"
 #include "restitch/lattice/label_space.hpp"
 #include "restitch/mesh_boundary.hpp"
@@ -165,12 +166,14 @@ struct RetargetReport {
 
   /// The plane between output cells i - 1 and i along lattice axis a as it lies (canonical units of the
   /// output grid: i plus its offset).
+  template <class = void>
   double plane(int a, int i) const {
     const std::vector<double>& o = plane_offsets[std::size_t(a)];
     return double(i) + (o.empty() ? 0.0 : o[std::size_t(i)]);
   }
   /// The output cell holding canonical point t of the output grid (clamped into it), with the planes as
   /// they lie.
+  template <class = void>
   Eigen::Array3i cell_of(const Eigen::Vector3d& t) const {
     Eigen::Array3i x;
     for (int a = 0; a < 3; ++a) {
@@ -217,6 +220,7 @@ struct MovedPlanes {
   bool moved(int a) const { return !j[std::size_t(a)].empty(); }
   bool any() const { return moved(0) || moved(1) || moved(2); }
   /// The same for the s-th K-th of a cell (s = 0 .. K cells - 1) along a moved axis.
+  template <class = void>
   int cell_of_part(int a, int s, int cells) const {
     const std::vector<int>& J = j[std::size_t(a)];
     const int i = s / K;
@@ -226,7 +230,8 @@ struct MovedPlanes {
   }
 };
 
-inline std::string format_size(double x) {
+template <class = void>
+std::string format_size(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", x);
   return buf;
@@ -235,7 +240,8 @@ inline std::string format_size(double x) {
 
 /// ok when every component of a target size is finite and >= 0 (0 keeps an axis); else an
 /// invalid_argument naming the first axis that is not.
-inline Status check_size_values(const Eigen::Vector3d& target) {
+template <class = void>
+Status check_size_values(const Eigen::Vector3d& target) {
   for (int i = 0; i < 3; ++i)
     if (!std::isfinite(target[i]) || target[i] < 0) {
       const std::string axis(1, "xyz"[i]);
@@ -249,7 +255,8 @@ inline Status check_size_values(const Eigen::Vector3d& target) {
 /// Per world axis: does `target` (0 keeps an axis) ask a model of bounding-box size `size` to change
 /// along it? Within 1e-5 of the current size (relative, at least 1e-8 of the box diagonal) is no change,
 /// so a size typed from a printed one is no change.
-inline std::array<bool, 3> size_changes(const Eigen::Vector3d& target, const Eigen::Vector3d& size) {
+template <class = void>
+std::array<bool, 3> size_changes(const Eigen::Vector3d& target, const Eigen::Vector3d& size) {
   std::array<bool, 3> out{{false, false, false}};
   for (int i = 0; i < 3; ++i)
     out[std::size_t(i)] =
@@ -282,29 +289,7 @@ class Retargeter {
 
  public:
   Retargeter(const Mesh& mesh, const Analysis& analysis, RetargetOptions options = {}, LabelSpace labels = {},
-             Solver solver = {}, Stitcher stitcher = {})
-      : mesh_(&mesh), analysis_(&analysis), options_(options), space_(labels), solver_(solver), stitcher_(stitcher) {
-    status_ = detail::guarded("Retargeter", [&]() -> Status {
-      if (options_.threads < 0 || options_.threads > 1024)
-        return error(StatusCode::invalid_argument,
-                     "threads must be 0 (every hardware thread) to 1024, not " + std::to_string(options_.threads));
-      detail::set_policy_threads(solver_, options_.threads, 0);
-      RESTITCH_TRY(set_weld_tolerance());
-      if (options_.weld_tolerance == 0 && options_.measure_weld_tolerance) measure_weld_tolerance(mesh, analysis);
-      RESTITCH_TRY(space_.grid(mesh, analysis, grid_));
-      if (std::int64_t(grid_.cells.prod()) > std::int64_t(options_.max_problem_size))
-        return error(StatusCode::too_large, "the label grid has " + std::to_string(grid_.cells.prod()) +
-                                                " cells, more than max_problem_size (" +
-                                                std::to_string(options_.max_problem_size) + ")");
-      cells_ = std::make_unique<CellDescriptors>(analysis, grid_, options_.set_distance);
-      slabs_ = std::make_unique<CellSlabs>(analysis, grid_);
-      if constexpr (has_prepared_stitch_v<Stitcher>) RESTITCH_TRY(stitcher_.prepare(mesh, grid_, cache_));
-      box_in_ = bounding_box(mesh);
-      size_in_ = box_in_.size();
-      if (options_.boundary_edges) boundary_edges_in_ = boundary_edge_count(mesh);
-      return {};
-    });
-  }
+             Solver solver = {}, Stitcher stitcher = {});
 
   /// ok when the grid and caches were built; otherwise why not.
   const Status& status() const { return status_; }
@@ -315,141 +300,10 @@ class Retargeter {
   const RetargetOptions& options() const { return options_; }
 
   /// Resizes by `steps` along the principal offsets (see the header comment).
-  Result<RetargetResult> retarget(const Eigen::Array3i& steps, const Progress& progress = {}) {
-    return detail::guarded("retarget", [&]() -> Result<RetargetResult> {
-      using clock = std::chrono::steady_clock;
-      const auto t0 = clock::now();
-      auto ms_since = [](clock::time_point t) {
-        return std::chrono::duration<double, std::milli>(clock::now() - t).count();
-      };
-      RESTITCH_TRY(status_);
-      RetargetResult out;
-      RetargetReport& rep = out.report;
-      RESTITCH_TRY(plan(steps, rep));
-      out.grid = grid_;
-      const Eigen::Array3i k = rep.grid_steps;
-      const double nodes = double(rep.cells_out.prod());
-
-      if ((k == 0).all()) {  // nothing to do: the input, unchanged
-        out.mesh = *mesh_;
-        rep.nodes = int(nodes), rep.labels = 1, rep.regions = 1;
-        rep.triangles_out = rep.triangles_in;
-        rep.vertices_out = out.mesh.vertex_count();
-        rep.boundary_edges_out = rep.boundary_edges_in;
-        rep.size_out = size_in_;
-        rep.placement = place(analysis_->lattice, box_in_, Eigen::Array3i::Zero(), options_.pivot);  // not moved
-        rep.size_nearest = size_in_;
-        out.labels = {Eigen::Array3i::Zero()};
-        out.cell_labels.assign(std::size_t(nodes), 0);
-        if (options_.face_labels) out.face_labels.assign(out.mesh.triangle_count(), 0);
-        rep.timings_ms["total"] = ms_since(t0);
-        return out;
-      }
-
-      if (!progress.report("energy", 0.0)) return error(StatusCode::cancelled, "cancelled");
-      auto t = clock::now();
-      SeamMrf problem = make_problem(k);
-      rep.timings_ms["energy"] = ms_since(t);
-      rep.nodes = problem.node_count();
-      rep.labels = problem.label_count();
-      rep.edges = problem.edge_count();
-
-      t = clock::now();
-      // Two starts (docs/method.md 2.5): the input stretched, and, where it beats that solve's result, the
-      // best labelling with straight seams; the lower energy wins, the first on a tie. Each solve reports
-      // half of the progress.
-      std::vector<int> labelling = problem.initial_labels();
-      SolveReport solve;
-      const auto half = [&progress](double base) {
-        return Progress([&progress, base](std::string_view stage, double f) {
-          return progress.report(stage, base + 0.5 * f);
-        });
-      };
-      RESTITCH_TRY(solver_.solve(problem, labelling, solve, half(0.0)));
-      if (problem.separable_terms() > separable_budget) {
-        // the second start is skipped on very large requests (its cost; docs/method.md 2.5)
-      } else if (std::vector<int> straight = problem.separable_labels(); energy(problem, straight) < solve.energy) {
-        SolveReport second;
-        RESTITCH_TRY(solver_.solve(problem, straight, second, half(0.5)));
-        if (second.energy < solve.energy) labelling.swap(straight), solve = second;
-      }
-      rep.timings_ms["solve"] = ms_since(t);
-      rep.cycles = solve.cycles;
-      rep.energy = solve.energy;
-      rep.non_metric = solve.non_metric_detected;
-
-      out.labels = problem.labels();
-      out.cell_labels = labelling;
-      std::vector<Eigen::Array3i> shift(labelling.size());
-      for (std::size_t x = 0; x < labelling.size(); ++x) shift[x] = out.labels[std::size_t(labelling[x])];
-
-      if (!progress.report("stitching", 0.0)) return error(StatusCode::cancelled, "cancelled");
-      t = clock::now();
-      detail::MovedPlanes planes = move_seams(k, rep.cells_out, shift);
-      rep.timings_ms["seam planes"] = ms_since(t);
-      t = clock::now();
-      StitchReport st;
-      if (planes.any()) {
-        const Status moved = stitch_moved(rep.cells_out, shift, planes, out.mesh, st);
-        if (moved.code() == StatusCode::too_large) {  // the finer grid is past the stitcher's limits: seams stay
-          planes = detail::MovedPlanes();
-          out.mesh = Mesh();
-          st = StitchReport();
-        } else {
-          RESTITCH_TRY(moved);
-        }
-      }
-      if (!planes.any()) {
-        if constexpr (has_prepared_stitch_v<Stitcher>) {
-          RESTITCH_TRY(stitcher_.stitch(cache_, rep.cells_out, shift, out.mesh, st));
-        } else {
-          RESTITCH_TRY(stitcher_.stitch(*mesh_, grid_, rep.cells_out, shift, out.mesh, st));
-        }
-      }
-      rep.timings_ms["stitch"] = ms_since(t);
-      for (int a = 0; a < 3; ++a)
-        if (planes.moved(a)) {
-          rep.plane_offsets[std::size_t(a)].clear();
-          for (const int j : planes.j[std::size_t(a)]) {
-            rep.plane_offsets[std::size_t(a)].push_back(double(j) / planes.K);
-            rep.seams_moved += j != 0;
-          }
-        }
-      t = clock::now();
-      measure_seams(k, rep.cells_out, shift, planes, rep);
-      rep.timings_ms["seams"] = ms_since(t);
-      rep.regions = st.regions;
-      rep.triangles_out = out.mesh.triangle_count();
-      rep.vertices_out = out.mesh.vertex_count();
-      if (options_.boundary_edges) {
-        t = clock::now();
-        rep.boundary_edges_out = boundary_edge_count(out.mesh);
-        rep.timings_ms["boundary"] = ms_since(t);
-      }
-      if (options_.face_labels) out.face_labels = face_labels(out.mesh, rep, labelling);
-      // Placement: whole periods, so that the pivot stays put (placement.hpp).
-      rep.placement = place(analysis_->lattice, box_in_, rep.steps, options_.pivot);
-      translate(out.mesh, rep.placement.translation);
-      out.grid.origin += rep.placement.translation;
-      rep.size_out = out.mesh.empty() ? Eigen::Vector3d::Zero() : bounding_box(out.mesh).size();
-      rep.size_nearest = rep.size_out;
-      rep.timings_ms["total"] = ms_since(t0);
-      progress.report("stitching", 1.0);
-      if (out.mesh.empty())
-        return error(StatusCode::internal, "the labelling left every output cell empty; please report this model");
-      return out;
-    });
-  }
+  Result<RetargetResult> retarget(const Eigen::Array3i& steps, const Progress& progress = {});
 
   /// The labelling problem a request solves (for --dump-mrf and benchmarks).
-  Result<SeamMrf> labelling_problem(const Eigen::Array3i& steps) {
-    return detail::guarded("labelling_problem", [&]() -> Result<SeamMrf> {
-      RESTITCH_TRY(status_);
-      RetargetReport rep;
-      RESTITCH_TRY(plan(steps, rep));
-      return make_problem(rep.grid_steps);
-    });
-  }
+  Result<SeamMrf> labelling_problem(const Eigen::Array3i& steps);
 
   /// The geometric seam measure this Retargeter reports with (and solves with, by default).
   CellSlabs& slabs() { return *slabs_; }
@@ -461,77 +315,16 @@ class Retargeter {
   /// and a size change along a world axis no principal offset runs along
   /// (world_axis_of). A component equal to the current size (within 1e-5 of
   /// it, relative) is no change.
-  Result<Eigen::Array3i> steps_for_size(const Eigen::Vector3d& target, int max_steps = 64) const {
-    return detail::guarded("steps_for_size", [&]() -> Result<Eigen::Array3i> {
-      RESTITCH_TRY(status_);
-      RESTITCH_TRY(check_size(target));
-      const Lattice& L = analysis_->lattice;
-      Eigen::Vector3d want = target;
-      for (int i = 0; i < 3; ++i)
-        if (!(want[i] > 0)) want[i] = size_in_[i];
-      Eigen::Array3i lo = Eigen::Array3i::Zero(), hi = Eigen::Array3i::Zero();
-      for (int a = 0; a < 3; ++a)
-        if (!L.dummy[a]) lo[a] = 1 - L.cells[a], hi[a] = max_steps;
-      Eigen::Array3i best = Eigen::Array3i::Zero();
-      double best_err = INFINITY;
-      for (int w = lo[2]; w <= hi[2]; ++w)
-        for (int v = lo[1]; v <= hi[1]; ++v)
-          for (int u = lo[0]; u <= hi[0]; ++u) {
-            // Each step along v_a moves the far end by v_a: the box grows by |v_a| per component.
-            Eigen::Vector3d size = size_in_;
-            const Eigen::Array3i s(u, v, w);
-            for (int a = 0; a < 3; ++a) size += L.A.col(a).cwiseAbs() * s[a];
-            const double err = (size - want).cwiseQuotient(size_in_.cwiseMax(1e-12)).squaredNorm();
-            if (err < best_err - 1e-12) best_err = err, best = s;
-          }
-      return best;
-    });
-  }
+  Result<Eigen::Array3i> steps_for_size(const Eigen::Vector3d& target, int max_steps = 64) const;
 
   /// Resizes to the bounding-box size `target` (model units, 0 keeps an axis): the nearest whole repeats
   /// (steps_for_size), placed about the pivot. With `exact`, the result is then scaled along every world
   /// axis asked for (component > 0) about the pivot point, by target / size, so its box is `target`
   /// exactly (to float rounding); the report gives the factors and the size before scaling.
-  Result<RetargetResult> retarget_to_size(const Eigen::Vector3d& target, bool exact, const Progress& progress = {}) {
-    return detail::guarded("retarget_to_size", [&]() -> Result<RetargetResult> {
-      Result<Eigen::Array3i> steps = steps_for_size(target);
-      RESTITCH_TRY(steps.status());
-      Result<RetargetResult> out = retarget(*steps, progress);
-      RESTITCH_TRY(out.status());
-      RetargetReport& rep = out->report;
-      if (!exact) return out;
-      rep.exact = true;
-      for (int i = 0; i < 3; ++i)
-        if (target[i] > 0 && rep.size_out[i] > 0) rep.scale[i] = target[i] / rep.size_out[i];
-      if (rep.scale != Eigen::Vector3d::Ones()) {
-        const Eigen::Vector3d& p = rep.placement.pivot;
-        scale_about(out->mesh, rep.scale, p);
-        out->grid.A = rep.scale.asDiagonal() * out->grid.A;
-        out->grid.origin = p + rep.scale.asDiagonal() * (out->grid.origin - p);
-        rep.size_out = bounding_box(out->mesh).size();
-      }
-      return out;
-    });
-  }
+  Result<RetargetResult> retarget_to_size(const Eigen::Vector3d& target, bool exact, const Progress& progress = {});
 
   /// ok, or why `target` cannot be asked for (see steps_for_size).
-  Status check_size(const Eigen::Vector3d& target) const {
-    const Lattice& L = analysis_->lattice;
-    std::array<bool, 3> covered{{false, false, false}};
-    for (int a = 0; a < 3; ++a)
-      if (!L.dummy[a]) covered[std::size_t(world_axis_of(L.A.col(a)))] = true;
-    RESTITCH_TRY(check_size_values(target));
-    const std::array<bool, 3> change = size_changes(target, size_in_);
-    for (int i = 0; i < 3; ++i) {
-      const std::string axis(1, "xyz"[i]);
-      if (change[std::size_t(i)] && !covered[std::size_t(i)])
-        return error(StatusCode::invalid_argument,
-                     "no repeat runs along " + axis + ", so its size cannot change (asked " +
-                         format_size(target[i]) + ", the model is " + format_size(size_in_[i]) +
-                         "); give 0 to keep " + axis);
-    }
-    return {};
-  }
+  Status check_size(const Eigen::Vector3d& target) const;
 
  private:
   // Checks a request and fills the size-independent part of the report.
@@ -863,11 +656,249 @@ class Retargeter {
   static std::string format_size(double x) { return detail::format_size(x); }
 };
 
+template <class LabelSpace, class Solver, class Stitcher>
+Retargeter<LabelSpace, Solver, Stitcher>::Retargeter(const Mesh& mesh, const Analysis& analysis, RetargetOptions options,
+                                                     LabelSpace labels, Solver solver, Stitcher stitcher)
+    : mesh_(&mesh), analysis_(&analysis), options_(options), space_(labels), solver_(solver), stitcher_(stitcher) {
+  status_ = detail::guarded("Retargeter", [&]() -> Status {
+    if (options_.threads < 0 || options_.threads > 1024)
+      return error(StatusCode::invalid_argument,
+                   "threads must be 0 (every hardware thread) to 1024, not " + std::to_string(options_.threads));
+    detail::set_policy_threads(solver_, options_.threads, 0);
+    RESTITCH_TRY(set_weld_tolerance());
+    if (options_.weld_tolerance == 0 && options_.measure_weld_tolerance) measure_weld_tolerance(mesh, analysis);
+    RESTITCH_TRY(space_.grid(mesh, analysis, grid_));
+    if (std::int64_t(grid_.cells.prod()) > std::int64_t(options_.max_problem_size))
+      return error(StatusCode::too_large, "the label grid has " + std::to_string(grid_.cells.prod()) +
+                                              " cells, more than max_problem_size (" +
+                                              std::to_string(options_.max_problem_size) + ")");
+    cells_ = std::make_unique<CellDescriptors>(analysis, grid_, options_.set_distance);
+    slabs_ = std::make_unique<CellSlabs>(analysis, grid_);
+    if constexpr (has_prepared_stitch_v<Stitcher>) RESTITCH_TRY(stitcher_.prepare(mesh, grid_, cache_));
+    box_in_ = bounding_box(mesh);
+    size_in_ = box_in_.size();
+    if (options_.boundary_edges) boundary_edges_in_ = boundary_edge_count(mesh);
+    return {};
+  });
+}
+
+template <class LabelSpace, class Solver, class Stitcher>
+Result<RetargetResult> Retargeter<LabelSpace, Solver, Stitcher>::retarget(const Eigen::Array3i& steps,
+                                                                          const Progress& progress) {
+  return detail::guarded("retarget", [&]() -> Result<RetargetResult> {
+    using clock = std::chrono::steady_clock;
+    const auto t0 = clock::now();
+    auto ms_since = [](clock::time_point t) {
+      return std::chrono::duration<double, std::milli>(clock::now() - t).count();
+    };
+    RESTITCH_TRY(status_);
+    RetargetResult out;
+    RetargetReport& rep = out.report;
+    RESTITCH_TRY(plan(steps, rep));
+    out.grid = grid_;
+    const Eigen::Array3i k = rep.grid_steps;
+    const double nodes = double(rep.cells_out.prod());
+
+    if ((k == 0).all()) {  // nothing to do: the input, unchanged
+      out.mesh = *mesh_;
+      rep.nodes = int(nodes), rep.labels = 1, rep.regions = 1;
+      rep.triangles_out = rep.triangles_in;
+      rep.vertices_out = out.mesh.vertex_count();
+      rep.boundary_edges_out = rep.boundary_edges_in;
+      rep.size_out = size_in_;
+      rep.placement = place(analysis_->lattice, box_in_, Eigen::Array3i::Zero(), options_.pivot);  // not moved
+      rep.size_nearest = size_in_;
+      out.labels = {Eigen::Array3i::Zero()};
+      out.cell_labels.assign(std::size_t(nodes), 0);
+      if (options_.face_labels) out.face_labels.assign(out.mesh.triangle_count(), 0);
+      rep.timings_ms["total"] = ms_since(t0);
+      return out;
+    }
+
+    if (!progress.report("energy", 0.0)) return error(StatusCode::cancelled, "cancelled");
+    auto t = clock::now();
+    SeamMrf problem = make_problem(k);
+    rep.timings_ms["energy"] = ms_since(t);
+    rep.nodes = problem.node_count();
+    rep.labels = problem.label_count();
+    rep.edges = problem.edge_count();
+
+    t = clock::now();
+    // Two starts (docs/method.md 2.5): the input stretched, and, where it beats that solve's result, the
+    // best labelling with straight seams; the lower energy wins, the first on a tie. Each solve reports
+    // half of the progress.
+    std::vector<int> labelling = problem.initial_labels();
+    SolveReport solve;
+    const auto half = [&progress](double base) {
+      return Progress([&progress, base](std::string_view stage, double f) {
+        return progress.report(stage, base + 0.5 * f);
+      });
+    };
+    RESTITCH_TRY(solver_.solve(problem, labelling, solve, half(0.0)));
+    if (problem.separable_terms() > separable_budget) {
+      // the second start is skipped on very large requests (its cost; docs/method.md 2.5)
+    } else if (std::vector<int> straight = problem.separable_labels(); energy(problem, straight) < solve.energy) {
+      SolveReport second;
+      RESTITCH_TRY(solver_.solve(problem, straight, second, half(0.5)));
+      if (second.energy < solve.energy) labelling.swap(straight), solve = second;
+    }
+    rep.timings_ms["solve"] = ms_since(t);
+    rep.cycles = solve.cycles;
+    rep.energy = solve.energy;
+    rep.non_metric = solve.non_metric_detected;
+
+    out.labels = problem.labels();
+    out.cell_labels = labelling;
+    std::vector<Eigen::Array3i> shift(labelling.size());
+    for (std::size_t x = 0; x < labelling.size(); ++x) shift[x] = out.labels[std::size_t(labelling[x])];
+
+    if (!progress.report("stitching", 0.0)) return error(StatusCode::cancelled, "cancelled");
+    t = clock::now();
+    detail::MovedPlanes planes = move_seams(k, rep.cells_out, shift);
+    rep.timings_ms["seam planes"] = ms_since(t);
+    t = clock::now();
+    StitchReport st;
+    if (planes.any()) {
+      const Status moved = stitch_moved(rep.cells_out, shift, planes, out.mesh, st);
+      if (moved.code() == StatusCode::too_large) {  // the finer grid is past the stitcher's limits: seams stay
+        planes = detail::MovedPlanes();
+        out.mesh = Mesh();
+        st = StitchReport();
+      } else {
+        RESTITCH_TRY(moved);
+      }
+    }
+    if (!planes.any()) {
+      if constexpr (has_prepared_stitch_v<Stitcher>) {
+        RESTITCH_TRY(stitcher_.stitch(cache_, rep.cells_out, shift, out.mesh, st));
+      } else {
+        RESTITCH_TRY(stitcher_.stitch(*mesh_, grid_, rep.cells_out, shift, out.mesh, st));
+      }
+    }
+    rep.timings_ms["stitch"] = ms_since(t);
+    for (int a = 0; a < 3; ++a)
+      if (planes.moved(a)) {
+        rep.plane_offsets[std::size_t(a)].clear();
+        for (const int j : planes.j[std::size_t(a)]) {
+          rep.plane_offsets[std::size_t(a)].push_back(double(j) / planes.K);
+          rep.seams_moved += j != 0;
+        }
+      }
+    t = clock::now();
+    measure_seams(k, rep.cells_out, shift, planes, rep);
+    rep.timings_ms["seams"] = ms_since(t);
+    rep.regions = st.regions;
+    rep.triangles_out = out.mesh.triangle_count();
+    rep.vertices_out = out.mesh.vertex_count();
+    if (options_.boundary_edges) {
+      t = clock::now();
+      rep.boundary_edges_out = boundary_edge_count(out.mesh);
+      rep.timings_ms["boundary"] = ms_since(t);
+    }
+    if (options_.face_labels) out.face_labels = face_labels(out.mesh, rep, labelling);
+    // Placement: whole periods, so that the pivot stays put (placement.hpp).
+    rep.placement = place(analysis_->lattice, box_in_, rep.steps, options_.pivot);
+    translate(out.mesh, rep.placement.translation);
+    out.grid.origin += rep.placement.translation;
+    rep.size_out = out.mesh.empty() ? Eigen::Vector3d::Zero() : bounding_box(out.mesh).size();
+    rep.size_nearest = rep.size_out;
+    rep.timings_ms["total"] = ms_since(t0);
+    progress.report("stitching", 1.0);
+    if (out.mesh.empty())
+      return error(StatusCode::internal, "the labelling left every output cell empty; please report this model");
+    return out;
+  });
+}
+
+template <class LabelSpace, class Solver, class Stitcher>
+Result<SeamMrf> Retargeter<LabelSpace, Solver, Stitcher>::labelling_problem(const Eigen::Array3i& steps) {
+  return detail::guarded("labelling_problem", [&]() -> Result<SeamMrf> {
+    RESTITCH_TRY(status_);
+    RetargetReport rep;
+    RESTITCH_TRY(plan(steps, rep));
+    return make_problem(rep.grid_steps);
+  });
+}
+
+template <class LabelSpace, class Solver, class Stitcher>
+Result<Eigen::Array3i> Retargeter<LabelSpace, Solver, Stitcher>::steps_for_size(const Eigen::Vector3d& target,
+                                                                                int max_steps) const {
+  return detail::guarded("steps_for_size", [&]() -> Result<Eigen::Array3i> {
+    RESTITCH_TRY(status_);
+    RESTITCH_TRY(check_size(target));
+    const Lattice& L = analysis_->lattice;
+    Eigen::Vector3d want = target;
+    for (int i = 0; i < 3; ++i)
+      if (!(want[i] > 0)) want[i] = size_in_[i];
+    Eigen::Array3i lo = Eigen::Array3i::Zero(), hi = Eigen::Array3i::Zero();
+    for (int a = 0; a < 3; ++a)
+      if (!L.dummy[a]) lo[a] = 1 - L.cells[a], hi[a] = max_steps;
+    Eigen::Array3i best = Eigen::Array3i::Zero();
+    double best_err = INFINITY;
+    for (int w = lo[2]; w <= hi[2]; ++w)
+      for (int v = lo[1]; v <= hi[1]; ++v)
+        for (int u = lo[0]; u <= hi[0]; ++u) {
+          // Each step along v_a moves the far end by v_a: the box grows by |v_a| per component.
+          Eigen::Vector3d size = size_in_;
+          const Eigen::Array3i s(u, v, w);
+          for (int a = 0; a < 3; ++a) size += L.A.col(a).cwiseAbs() * s[a];
+          const double err = (size - want).cwiseQuotient(size_in_.cwiseMax(1e-12)).squaredNorm();
+          if (err < best_err - 1e-12) best_err = err, best = s;
+        }
+    return best;
+  });
+}
+
+template <class LabelSpace, class Solver, class Stitcher>
+Result<RetargetResult> Retargeter<LabelSpace, Solver, Stitcher>::retarget_to_size(const Eigen::Vector3d& target, bool exact,
+                                                                                  const Progress& progress) {
+  return detail::guarded("retarget_to_size", [&]() -> Result<RetargetResult> {
+    Result<Eigen::Array3i> steps = steps_for_size(target);
+    RESTITCH_TRY(steps.status());
+    Result<RetargetResult> out = retarget(*steps, progress);
+    RESTITCH_TRY(out.status());
+    RetargetReport& rep = out->report;
+    if (!exact) return out;
+    rep.exact = true;
+    for (int i = 0; i < 3; ++i)
+      if (target[i] > 0 && rep.size_out[i] > 0) rep.scale[i] = target[i] / rep.size_out[i];
+    if (rep.scale != Eigen::Vector3d::Ones()) {
+      const Eigen::Vector3d& p = rep.placement.pivot;
+      scale_about(out->mesh, rep.scale, p);
+      out->grid.A = rep.scale.asDiagonal() * out->grid.A;
+      out->grid.origin = p + rep.scale.asDiagonal() * (out->grid.origin - p);
+      rep.size_out = bounding_box(out->mesh).size();
+    }
+    return out;
+  });
+}
+
+template <class LabelSpace, class Solver, class Stitcher>
+Status Retargeter<LabelSpace, Solver, Stitcher>::check_size(const Eigen::Vector3d& target) const {
+  const Lattice& L = analysis_->lattice;
+  std::array<bool, 3> covered{{false, false, false}};
+  for (int a = 0; a < 3; ++a)
+    if (!L.dummy[a]) covered[std::size_t(world_axis_of(L.A.col(a)))] = true;
+  RESTITCH_TRY(check_size_values(target));
+  const std::array<bool, 3> change = size_changes(target, size_in_);
+  for (int i = 0; i < 3; ++i) {
+    const std::string axis(1, "xyz"[i]);
+    if (change[std::size_t(i)] && !covered[std::size_t(i)])
+      return error(StatusCode::invalid_argument,
+                   "no repeat runs along " + axis + ", so its size cannot change (asked " +
+                       format_size(target[i]) + ", the model is " + format_size(size_in_[i]) +
+                       "); give 0 to keep " + axis);
+  }
+  return {};
+}
+
+
 /// Lattice steps from steps along the principal offsets in order (the i-th
 /// value goes to the i-th non-dummy lattice axis), as a user states them.
 /// More non-zero values than principal offsets is an error saying how many
 /// the model has.
-inline Result<Eigen::Array3i> lattice_steps_from_principal(const Analysis& analysis, const std::vector<int>& steps) {
+template <class = void>
+Result<Eigen::Array3i> lattice_steps_from_principal(const Analysis& analysis, const std::vector<int>& steps) {
   Eigen::Array3i out = Eigen::Array3i::Zero();
   std::size_t next = 0;
   for (int a = 0; a < 3; ++a)
@@ -884,7 +915,8 @@ inline Result<Eigen::Array3i> lattice_steps_from_principal(const Analysis& analy
 }
 
 /// The inverse of lattice_steps_from_principal: the steps along each principal offset, in order.
-inline std::vector<int> principal_steps_from_lattice(const Analysis& analysis, const Eigen::Array3i& lattice_steps) {
+template <class = void>
+std::vector<int> principal_steps_from_lattice(const Analysis& analysis, const Eigen::Array3i& lattice_steps) {
   std::vector<int> out;
   for (int a = 0; a < 3; ++a)
     if (!analysis.lattice.dummy[a]) out.push_back(lattice_steps[a]);
@@ -898,5 +930,11 @@ Result<RetargetResult> retarget(const Mesh& mesh, const Analysis& analysis, cons
   Retargeter<LabelSpace, Solver, Stitcher> r(mesh, analysis, options);
   return r.retarget(steps, progress);
 }
+
+// The compiled mode (restitch/detail/instantiation.hpp): both label spaces with the default solver and stitcher.
+RESTITCH_INSTANTIATE(class Retargeter<LatticeLabels>)
+RESTITCH_INSTANTIATE(class Retargeter<RegularLabels>)
+RESTITCH_INSTANTIATE(Result<RetargetResult> retarget<>(const Mesh&, const Analysis&, const Eigen::Array3i&,
+                                                       const RetargetOptions&, const Progress&))
 
 }  // namespace restitch

@@ -21,36 +21,43 @@
 #include <vector>
 
 #include "restitch/analyze.hpp"
+#include "restitch/detail/instantiation.hpp"
 #include "restitch/offsets/autocorrelation.hpp"
 #include "restitch/retarget.hpp"
 
 namespace restitch {
 
-inline const std::vector<std::string>& descriptor_names() {
+template <class = void>
+const std::vector<std::string>& descriptor_names() {
   static const std::vector<std::string> n{"shot", "fpfh"};
   return n;
 }
-inline const std::vector<std::string>& matcher_names() {
+template <class = void>
+const std::vector<std::string>& matcher_names() {
   static const std::vector<std::string> n{"brute_force", "reduced"};
   return n;
 }
-inline const std::vector<std::string>& detector_names() {
+template <class = void>
+const std::vector<std::string>& detector_names() {
   static const std::vector<std::string> n{"histogram", "autocorrelation"};
   return n;
 }
-inline const std::vector<std::string>& label_space_names() {
+template <class = void>
+const std::vector<std::string>& label_space_names() {
   static const std::vector<std::string> n{"lattice", "regular"};
   return n;
 }
 
 /// The seam energies by name (RetargetOptions::seam_energy; the default first).
-inline const std::vector<std::string>& seam_energy_names() {
+template <class = void>
+const std::vector<std::string>& seam_energy_names() {
   static const std::vector<std::string> n{"descriptor", "geometry"};
   return n;
 }
 
 namespace detail {
-inline Status unknown_name(const char* what, const std::string& name, const std::vector<std::string>& known) {
+template <class = void>
+Status unknown_name(const char* what, const std::string& name, const std::vector<std::string>& known) {
   std::string list;
   for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
   return error(StatusCode::invalid_argument, "unknown " + std::string(what) + " '" + name + "' (known: " + list + ")");
@@ -80,7 +87,8 @@ Result<Analysis> analyze_matcher(const Mesh& mesh, const std::string& matcher, c
 
 /// analyze() with the descriptor, matcher and offset detector named at run time, default options
 /// otherwise; `threads` is AnalysisOptions::threads (1: the calling thread alone; 0: every core).
-inline Result<Analysis> analyze_named(const Mesh& mesh, const std::string& descriptor, const std::string& matcher,
+template <class = void>
+Result<Analysis> analyze_named(const Mesh& mesh, const std::string& descriptor, const std::string& matcher,
                                       const std::string& detector, const Progress& progress = {},
                                       int threads = 1) {
   if (descriptor == "shot")
@@ -91,7 +99,8 @@ inline Result<Analysis> analyze_named(const Mesh& mesh, const std::string& descr
 }
 
 /// analyze() with the descriptor and matcher named at run time and the default ("histogram") detector.
-inline Result<Analysis> analyze_named(const Mesh& mesh, const std::string& descriptor = "shot",
+template <class = void>
+Result<Analysis> analyze_named(const Mesh& mesh, const std::string& descriptor = "shot",
                                       const std::string& matcher = "brute_force", const Progress& progress = {}) {
   return analyze_named(mesh, descriptor, matcher, "histogram", progress);
 }
@@ -102,7 +111,8 @@ inline Status promote_offsets_named(const Mesh& mesh, const std::vector<Eigen::V
 }
 
 /// The seam energy named `name` ("geometry" or "descriptor"), or invalid_argument listing them.
-inline Result<SeamEnergy> seam_energy_named(const std::string& name) {
+template <class = void>
+Result<SeamEnergy> seam_energy_named(const std::string& name) {
   SeamEnergy e = SeamEnergy::geometry;
   if (!parse_seam_energy(name, e)) return detail::unknown_name("seam energy", name, seam_energy_names());
   return e;
@@ -112,6 +122,7 @@ inline Result<SeamEnergy> seam_energy_named(const std::string& name) {
 class AnyRetargeter {
  public:
   /// Builds the retargeter; check status() before use.
+  template <class = void>
   AnyRetargeter(const Mesh& mesh, const Analysis& analysis, const std::string& label_space = "lattice",
                 const RetargetOptions& options = {}) {
     if (label_space == "lattice")
@@ -121,6 +132,7 @@ class AnyRetargeter {
     else
       status_ = detail::unknown_name("label space", label_space, label_space_names());
   }
+  template <class = void>
   Status status() const {
     if (!status_) return status_;
     return std::visit(
@@ -143,6 +155,7 @@ class AnyRetargeter {
     return on_retargeter<RetargetResult>(*this, [&](auto& r) { return r.retarget_to_size(size, exact, progress); });
   }
   /// Retargeter::set_pivot of the chosen label space.
+  template <class = void>
   void set_pivot(const Pivots& pivot) {
     std::visit(
         [&](auto& r) {
@@ -173,5 +186,22 @@ class AnyRetargeter {
   Status status_;
   std::variant<std::monostate, Retargeter<LatticeLabels>, Retargeter<RegularLabels>> r_;
 };
+
+// The compiled mode (restitch/detail/instantiation.hpp): every analysis this header can name but the
+// default one (analyze.hpp instantiates that).
+RESTITCH_INSTANTIATE(Result<Analysis> analyze(const Mesh&, const AnalysisOptions<ShotDescriptor, BruteForceMatcher,
+                                              AutocorrelationOffsetDetector>&, const Progress&))
+RESTITCH_INSTANTIATE(Result<Analysis> analyze(const Mesh&, const AnalysisOptions<ShotDescriptor, ReducedMatcher,
+                                              HistogramOffsetDetector>&, const Progress&))
+RESTITCH_INSTANTIATE(Result<Analysis> analyze(const Mesh&, const AnalysisOptions<ShotDescriptor, ReducedMatcher,
+                                              AutocorrelationOffsetDetector>&, const Progress&))
+RESTITCH_INSTANTIATE(Result<Analysis> analyze(const Mesh&, const AnalysisOptions<FpfhDescriptor, BruteForceMatcher,
+                                              HistogramOffsetDetector>&, const Progress&))
+RESTITCH_INSTANTIATE(Result<Analysis> analyze(const Mesh&, const AnalysisOptions<FpfhDescriptor, BruteForceMatcher,
+                                              AutocorrelationOffsetDetector>&, const Progress&))
+RESTITCH_INSTANTIATE(Result<Analysis> analyze(const Mesh&, const AnalysisOptions<FpfhDescriptor, ReducedMatcher,
+                                              HistogramOffsetDetector>&, const Progress&))
+RESTITCH_INSTANTIATE(Result<Analysis> analyze(const Mesh&, const AnalysisOptions<FpfhDescriptor, ReducedMatcher,
+                                              AutocorrelationOffsetDetector>&, const Progress&))
 
 }  // namespace restitch

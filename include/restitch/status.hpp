@@ -42,7 +42,8 @@ enum class StatusCode {
 };
 
 /// Human-readable name of a code ("parse_error").
-inline const char* to_string(StatusCode c) noexcept {
+template <class = void>
+const char* to_string(StatusCode c) noexcept {
   switch (c) {
     case StatusCode::ok:
       return "ok";
@@ -125,7 +126,8 @@ inline constexpr bool exceptions_enabled = false;
 
 // The Status of an exception caught at an entry point. Building its message allocates; if that fails
 // too (memory is still short), the Status carries the code alone.
-inline Status status_of_exception(StatusCode code, const char* call, const char* what) noexcept {
+template <class = void>
+Status status_of_exception(StatusCode code, const char* call, const char* what) noexcept {
   try {
     return Status(code, std::string(call) + ": " + what);
   } catch (...) {

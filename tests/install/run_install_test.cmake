@@ -1,6 +1,11 @@
-# Installs restitch into a temporary prefix, then configures, builds and runs
-# a tiny consumer project that does find_package(restitch) and links
-# restitch::restitch. Fails if any step fails.
+# The README's three ways into the library, each in a fresh folder, each building and running the
+# consumer program (consumer/main.cpp: glTF round trip, analysis, one resize):
+#   1. cmake --install to a prefix (the README's commands: tests, examples and bench off; the tool is
+#      built and installed), then find_package(restitch) from a consumer project, linking
+#      restitch::restitch (header-only) and restitch::compiled;
+#   2. add_subdirectory of the source tree, header-only (restitch::compiled is then not built);
+#   3. plain compiler flags: -I include and the Debian packages' headers, header-only.
+# Fails naming the step that failed.
 file(REMOVE_RECURSE "${WORK_DIR}")
 file(MAKE_DIRECTORY "${WORK_DIR}")
 function(run)
@@ -10,18 +15,42 @@ function(run)
   endif()
   set(LAST_OUTPUT "${out}" PARENT_SCOPE)
 endfunction()
+function(expect_ok program)
+  run("${program}" "${WORK_DIR}/out.glb")
+  if(NOT LAST_OUTPUT MATCHES "consumer ok")
+    message(FATAL_ERROR "${program} did not report success: ${LAST_OUTPUT}")
+  endif()
+  message(STATUS "${program}: ${LAST_OUTPUT}")
+endfunction()
+set(jobs -j 2)
+
+# 1. Installed package.
 run(${CMAKE_COMMAND} -S "${SOURCE_DIR}" -B "${WORK_DIR}/lib" -G "${GENERATOR}" -DCMAKE_BUILD_TYPE=Release
-    -DRESTITCH_BUILD_TESTS=OFF -DRESTITCH_BUILD_EXAMPLES=OFF -DRESTITCH_BUILD_BENCH=OFF
-    -DCMAKE_INSTALL_PREFIX=${WORK_DIR}/prefix)
-run(${CMAKE_COMMAND} --install "${WORK_DIR}/lib")
-if(NOT EXISTS "${WORK_DIR}/prefix/include/restitch/restitch.hpp")
-  message(FATAL_ERROR "the umbrella header was not installed")
-endif()
+    -DRESTITCH_BUILD_TESTS=OFF -DRESTITCH_BUILD_EXAMPLES=OFF -DRESTITCH_BUILD_BENCH=OFF)
+run(${CMAKE_COMMAND} --build "${WORK_DIR}/lib" ${jobs})
+run(${CMAKE_COMMAND} --install "${WORK_DIR}/lib" --prefix "${WORK_DIR}/prefix")
+foreach(f include/restitch/restitch.hpp include/restitch/instantiate.hpp bin/restitch)
+  if(NOT EXISTS "${WORK_DIR}/prefix/${f}")
+    message(FATAL_ERROR "cmake --install did not install ${f}")
+  endif()
+endforeach()
+run("${WORK_DIR}/prefix/bin/restitch" sample pin_header -o "${WORK_DIR}/tool.glb")
 run(${CMAKE_COMMAND} -S "${SOURCE_DIR}/tests/install/consumer" -B "${WORK_DIR}/consumer" -G "${GENERATOR}"
-    -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
-run(${CMAKE_COMMAND} --build "${WORK_DIR}/consumer")
-run("${WORK_DIR}/consumer/consumer" "${WORK_DIR}/out.glb")
-if(NOT LAST_OUTPUT MATCHES "consumer ok")
-  message(FATAL_ERROR "the consumer did not report success: ${LAST_OUTPUT}")
+    -DCMAKE_BUILD_TYPE=Release "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix")
+run(${CMAKE_COMMAND} --build "${WORK_DIR}/consumer" ${jobs})
+expect_ok("${WORK_DIR}/consumer/consumer")
+expect_ok("${WORK_DIR}/consumer/consumer_compiled")
+
+# 2. From the source tree, header-only.
+run(${CMAKE_COMMAND} -S "${SOURCE_DIR}/tests/install/subdirectory" -B "${WORK_DIR}/subdirectory" -G "${GENERATOR}"
+    -DCMAKE_BUILD_TYPE=Release "-DRESTITCH_SOURCE_DIR=${SOURCE_DIR}")
+run(${CMAKE_COMMAND} --build "${WORK_DIR}/subdirectory" ${jobs})
+if(EXISTS "${WORK_DIR}/subdirectory/restitch/librestitch_compiled.a")
+  message(FATAL_ERROR "add_subdirectory built restitch::compiled, which the consumer does not link")
 endif()
-message(STATUS "${LAST_OUTPUT}")
+expect_ok("${WORK_DIR}/subdirectory/consumer")
+
+# 3. Plain compiler flags (the README's command line).
+run(${CXX} -std=c++17 -O2 -I "${SOURCE_DIR}/include" -I /usr/include/eigen3 "${SOURCE_DIR}/tests/install/consumer/main.cpp"
+    -pthread -o "${WORK_DIR}/plain")
+expect_ok("${WORK_DIR}/plain")

@@ -72,7 +72,8 @@ constexpr double fpfh_pi = 3.14159265358979323846;
 /// PCL's pair features (f1, f2, f3) of the SPFH centre p (normal n_p) and its
 /// neighbour q (normal n_q); all in float32 as PCL computes them. Points have
 /// w = 1, normals w = 0; returns f = 0 for a degenerate pair.
-inline void fpfh_pair_features(const Eigen::Vector4f& p, const Eigen::Vector4f& n_p, const Eigen::Vector4f& q,
+template <class = void>
+void fpfh_pair_features(const Eigen::Vector4f& p, const Eigen::Vector4f& n_p, const Eigen::Vector4f& q,
                                const Eigen::Vector4f& n_q, float& f1, float& f2, float& f3) {
   Eigen::Vector4f dp = q - p;
   dp[3] = 0.0f;
@@ -111,7 +112,8 @@ inline void fpfh_pair_features(const Eigen::Vector4f& p, const Eigen::Vector4f& 
 
 /// Bin of a value b = 11 * (normalised feature) in double: floor, clamped to
 /// 0..10; NaN -> 0 (PCL's INT_MIN clamp, without the undefined cast).
-inline int fpfh_bin(double b) {
+template <class = void>
+int fpfh_bin(double b) {
   const double f = std::floor(b);
   if (f >= 11) return 10;
   if (f >= 0) return static_cast<int>(f);
@@ -128,6 +130,7 @@ struct FpfhDescriptor {
   /// 3 features x 11 bins.
   int dimension() const { return 33; }
 
+  template <class = void>
   Status compute(const PointSet& support, const PointSet& queries, DescriptorMatrix& out,
                  const Progress& progress = Progress()) const {
     return detail::guarded("FpfhDescriptor::compute", [&]() -> Status {

@@ -55,7 +55,8 @@ namespace restitch {
 namespace detail {
 
 /// Shared argument checks of the descriptor policies.
-inline Status check_descriptor_input(const char* policy, float radius, const PointSet& support,
+template <class = void>
+Status check_descriptor_input(const char* policy, float radius, const PointSet& support,
                                      const PointSet& queries) {
   if (!(radius > 0.0f) || !std::isfinite(radius)) {
     return error(StatusCode::invalid_argument,
@@ -87,7 +88,8 @@ struct Neighbour {
 };
 
 /// PCL's squared distance: FLANN's L2_Simple<float>, ((dx*dx + dy*dy) + dz*dz).
-inline float pcl_sqr_distance(const float* a, const float* b) {
+template <class = void>
+float pcl_sqr_distance(const float* a, const float* b) {
   const float dx = a[0] - b[0];
   const float dy = a[1] - b[1];
   const float dz = a[2] - b[2];
@@ -102,6 +104,7 @@ class RadiusSearch {
  public:
   /// points: #P by 3 (rows may be non-finite: they are left out).
   /// radius > 0 and finite (the caller validates it).
+  template <class = void>
   RadiusSearch(const MatrixX3f& points, double radius)
       : sqr_radius_(static_cast<float>(radius * radius)), adaptor_{&packed_}, tree_(3, adaptor_, params()) {
     RESTITCH_ASSERT(radius > 0 && std::isfinite(radius), "RadiusSearch needs a positive finite radius");
@@ -129,6 +132,7 @@ class RadiusSearch {
 
   /// Clears `out` and fills it with the support points within R of q
   /// (strict, float32), in tree order.
+  template <class = void>
   void find(const float* q, std::vector<Neighbour>& out) const {
     out.clear();
     if (ids_.empty() || !(std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]))) return;
@@ -160,6 +164,7 @@ class RadiusSearch {
     float worstDist() const { return self->search_radius_; }
     std::size_t size() const { return out->size(); }
     bool full() const { return true; }
+    template <class = void>
     bool addPoint(float, std::uint32_t i) {
       const float d2 = pcl_sqr_distance(q, &self->packed_[3 * static_cast<std::size_t>(i)]);
       if (d2 < self->sqr_radius_) out->push_back(Neighbour{self->ids_[i], d2});
@@ -167,6 +172,7 @@ class RadiusSearch {
     }
   };
 
+  template <class = void>
   static nanoflann::KDTreeSingleIndexAdaptorParams params() {
     return nanoflann::KDTreeSingleIndexAdaptorParams(16,
                                                      nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex);

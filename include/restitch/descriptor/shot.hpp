@@ -68,7 +68,8 @@ constexpr double shot_rad_pi_7_8 = 2.7488935718910690836548129603691;
 
 /// Azimuth sector 0..7 of (x, y) with PCL's tie rules: a direction on a
 /// sector boundary goes to the sector below it; x = y = 0 gives 0.
-inline int shot_azimuth_sector(double x, double y) {
+template <class = void>
+int shot_azimuth_sector(double x, double y) {
   const double ax = std::abs(x), ay = std::abs(y);
   if (y > 0 || (y == 0 && x < 0)) {                           // upper half plane, or phi = pi
     if (x > 0 || (x == 0 && y > 0)) return ax >= ay ? 4 : 5;  // (0, pi/2]
@@ -91,6 +92,7 @@ struct ShotDescriptor {
   /// 32 volumes x 11 cosine slots.
   int dimension() const { return 352; }
 
+  template <class = void>
   Status compute(const PointSet& support, const PointSet& queries, DescriptorMatrix& out,
                  const Progress& progress = Progress()) const {
     return detail::guarded("ShotDescriptor::compute", [&]() -> Status {
@@ -156,6 +158,7 @@ struct ShotDescriptor {
   // about 85 lines on purpose: it is SHOT's inner loop, the quadrilinear
   // interpolation of PCL's SHOTEstimation step by step (docs/descriptors.md, S1-S6),
   // and reads best side by side with PCL's own.
+  template <class = void>
   static void accumulate(const PointSet& support, const float* q, const std::vector<detail::Neighbour>& nn,
                          const std::int8_t* slot, const double* delta, double r, float* h) {
     using namespace detail;
@@ -248,6 +251,7 @@ struct ShotDescriptor {
   }
 
   // Divides h by its L2 norm (double sum of float squares); 0/0 = NaN as PCL.
+  template <class = void>
   static void normalise(float* h) {
     double acc = 0;
     for (int j = 0; j < 352; ++j) acc += h[j] * h[j];

@@ -38,7 +38,8 @@ namespace restitch {
 
 /// Parses `x y z nx ny nz` lines held in memory into a PointSet; `name` (a path, or any label) starts the
 /// error messages. See the file comment.
-inline Result<PointSet> parse_xyzn(std::string_view text, const std::string& name) {
+template <class = void>
+Result<PointSet> parse_xyzn(std::string_view text, const std::string& name) {
   return detail::guarded("parse_xyzn", [&]() -> Result<PointSet> {
     std::vector<float> values;
     std::string line;
@@ -95,7 +96,8 @@ inline Result<PointSet> parse_xyzn(std::string_view text, const std::string& nam
 }
 
 /// Reads an .xyzn file into a PointSet (parse_xyzn on its bytes); io_error when it cannot be read.
-inline Result<PointSet> read_xyzn(const std::string& path) {
+template <class = void>
+Result<PointSet> read_xyzn(const std::string& path) {
   return detail::guarded("read_xyzn", [&]() -> Result<PointSet> {
     std::vector<std::uint8_t> bytes;
     RESTITCH_TRY(detail::read_file(path, bytes));
@@ -104,7 +106,8 @@ inline Result<PointSet> read_xyzn(const std::string& path) {
 }
 
 /// Writes D as CSV through a temporary file; see the file comment.
-inline Status write_descriptor_csv(const std::string& path, const DescriptorMatrix& D) {
+template <class = void>
+Status write_descriptor_csv(const std::string& path, const DescriptorMatrix& D) {
   return detail::guarded("write_descriptor_csv", [&]() -> Status {
     const std::string tmp = path + ".tmp";
     std::FILE* f = std::fopen(tmp.c_str(), "wb");

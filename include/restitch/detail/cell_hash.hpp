@@ -32,11 +32,13 @@ using Cell = std::array<std::int64_t, 3>;
 
 /// The cell index floor(x / h) of a coordinate, saturated at +-2^62 so that any finite coordinate
 /// (an unused vertex may lie anywhere) and its neighbours +-1 are representable (no overflow).
-inline std::int64_t cell_index(double x, double h) {
+template <class = void>
+std::int64_t cell_index(double x, double h) {
   return std::int64_t(std::clamp(std::floor(x / h), -4611686018427387904.0, 4611686018427387904.0));
 }
 
-inline std::size_t hash_cell(const Cell& c) {
+template <class = void>
+std::size_t hash_cell(const Cell& c) {
   std::uint64_t h = std::uint64_t(c[0]) * 0x9E3779B97F4A7C15ull;
   h = (h ^ (h >> 29)) + std::uint64_t(c[1]) * 0xBF58476D1CE4E5B9ull;
   h = (h ^ (h >> 31)) + std::uint64_t(c[2]) * 0x94D049BB133111EBull;
@@ -110,6 +112,7 @@ class CellChains {
   explicit CellChains(std::size_t expected = 0) : heads_(expected) { next_.reserve(expected); }
 
   /// Chains item `item` (the next item number: 0, 1, 2, ... in order) into cell c.
+  template <class = void>
   void insert(const Cell& c, std::int32_t item) {
     std::int32_t& head = *heads_.get(c, -1).first;
     if (next_.size() <= std::size_t(item)) next_.resize(std::size_t(item) + 1, -1);

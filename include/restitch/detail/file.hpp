@@ -18,12 +18,14 @@
 
 namespace restitch::detail {
 
-inline std::string parent_dir(const std::string& path) {
+template <class = void>
+std::string parent_dir(const std::string& path) {
   const std::size_t slash = path.find_last_of("/\\");
   return slash == std::string::npos ? std::string() : path.substr(0, slash);
 }
 
-inline std::string lower_extension(const std::string& path) {
+template <class = void>
+std::string lower_extension(const std::string& path) {
   const std::size_t dot = path.find_last_of('.');
   const std::size_t slash = path.find_last_of("/\\");
   if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
@@ -32,7 +34,8 @@ inline std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-inline Status read_file(const std::string& path, std::vector<std::uint8_t>& out) {
+template <class = void>
+Status read_file(const std::string& path, std::vector<std::uint8_t>& out) {
   std::error_code ec;
   const auto st = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(st)) return error(StatusCode::io_error, path + ": no such file");
@@ -49,7 +52,8 @@ inline Status read_file(const std::string& path, std::vector<std::uint8_t>& out)
   return {};
 }
 
-inline Status write_file_atomic(const std::string& path, const void* data, std::size_t size) {
+template <class = void>
+Status write_file_atomic(const std::string& path, const void* data, std::size_t size) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) return error(StatusCode::io_error, path + ": is a directory");
   const std::string tmp = path + ".restitch-tmp";

@@ -40,7 +40,8 @@
 namespace restitch {
 
 /// The number of workers a `threads` option asks for: 0 means every hardware thread (at least 1).
-inline int resolve_threads(int threads) {
+template <class = void>
+int resolve_threads(int threads) {
 #if defined(__EMSCRIPTEN__) && !defined(__EMSCRIPTEN_PTHREADS__)
   (void)threads;
   return 1;  // built without threads (the page's module): every loop runs on the calling thread

@@ -33,12 +33,14 @@ struct NearestWithin {
   explicit NearestWithin(float bound2) : dist(bound2) {}
   /// For a caller that keeps a point when its squared distance, recomputed in double, is at most
   /// `max_d2`: the float bound widened by a relative 1e-4 so the float search never drops such a point.
+  template <class = void>
   static NearestWithin keeping(double max_d2) {
     return NearestWithin(float(max_d2 * (1 + 1e-4)) + std::numeric_limits<float>::min());
   }
   std::size_t size() const { return found ? 1 : 0; }
   bool full() const { return found; }
   float worstDist() const { return dist; }
+  template <class = void>
   bool addPoint(float d, std::uint32_t i) {  // a leaf offers every point below the worstDist() it began with
     if (d < dist) dist = d, index = i, found = true;
     return true;

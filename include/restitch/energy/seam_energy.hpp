@@ -65,6 +65,7 @@ class CellDescriptors {
   CellDescriptors() = default;
 
   /// Groups the features of `analysis` by the cells of `grid` (model units).
+  template <class = void>
   CellDescriptors(const Analysis& analysis, const Lattice& grid, SetDistance kind)
       : descriptors_(&analysis.descriptors), grid_(grid.cells), kind_(kind) {
     const Eigen::Index n =
@@ -90,6 +91,7 @@ class CellDescriptors {
   double max_distance() const { return max_distance_; }
 
   /// Set distance between two non-empty input cells (cached).
+  template <class = void>
   double distance(int a, int b) {
     if (a == b) return 0.0;
     if (a > b) std::swap(a, b);
@@ -103,6 +105,7 @@ class CellDescriptors {
   std::size_t cached_pairs() const { return cache_.size(); }
 
  private:
+  template <class = void>
   double compute(const std::vector<int>& A, const std::vector<int>& B) const {
     const DescriptorMatrix& D = *descriptors_;
     DescriptorMatrix X(A.size(), D.cols()), Y(B.size(), D.cols());
@@ -130,6 +133,7 @@ class CellDescriptors {
 class SeamMrf {
  public:
   /// `k`: grid steps per axis; the output grid is the input cells + k.
+  template <class = void>
   SeamMrf(CellDescriptors& cells, const Eigen::Array3i& k, Neighbourhood nb)
       : in_(cells.grid()), out_(cells.grid().dims + k), k_(k), span_(2 * k.abs() + 1) {
     empty_mismatch_ = 1000.0 * cells.max_distance();
@@ -144,6 +148,7 @@ class SeamMrf {
   /// The same problem with the geometric pairwise term (seam_geometry.hpp): the descriptor distance D is
   /// replaced by G(x - di, x - dj; e), the slab mismatch toward the neighbour e across the seam. Terms
   /// are computed on first use (the solver asks for few of them) and kept in `slabs`.
+  template <class = void>
   SeamMrf(CellSlabs& slabs, const Eigen::Array3i& k, Neighbourhood nb)
       : in_(slabs.grid()), out_(slabs.grid().dims + k), k_(k), span_(2 * k.abs() + 1), slabs_(&slabs) {
     empty_mismatch_ = slabs.empty_mismatch();
@@ -162,6 +167,7 @@ class SeamMrf {
   /// cell along a, whose end plane lies inside that cell, carries the model's end into the middle of the
   /// result (the grid reaches past the model there, so the end is not an overhang the stitcher would
   /// cut off). It costs `empty_mismatch`, as a missing surface does; added to the unary table.
+  template <class = void>
   void penalise_inner_ends(const Eigen::Array3d& end_low, const Eigen::Array3d& end_high) {
     const int n = node_count(), m = label_count();
     for (int x = 0; x < n; ++x) {
@@ -188,6 +194,7 @@ class SeamMrf {
   /// The descriptor term's table is filled when the problem is made, so its terms may be read from
   /// several threads at once; the geometric term computes entries on first use (AlphaExpansion::threads).
   bool terms_thread_safe() const { return !slabs_; }
+  template <class = void>
   double pairwise(int e, int li, int lj) const {
     if (li == lj) return 0.0;
     const auto [x, y] = edges_[std::size_t(e)];
@@ -199,6 +206,7 @@ class SeamMrf {
   const CellGrid& out_grid() const { return out_; }
   const std::vector<Eigen::Array3i>& labels() const { return labels_; }
   /// Label index of shift d, -1 if d is not a label.
+  template <class = void>
   int label_of(const Eigen::Array3i& d) const {
     for (int l = 0; l < label_count(); ++l)
       if ((labels_[l] == d).all()) return l;
@@ -211,6 +219,7 @@ class SeamMrf {
 
   /// A starting labelling: the input's own layout stretched, i.e. each cell
   /// copies the nearest end (label 0 in the low part, k in the high part).
+  template <class = void>
   std::vector<int> initial_labels() const {
     std::vector<int> lab(static_cast<std::size_t>(node_count()));
     for (int x = 0; x < node_count(); ++x) {
@@ -223,6 +232,7 @@ class SeamMrf {
   }
 
   /// How many pairwise terms separable_labels() evaluates (its cost).
+  template <class = void>
   double separable_terms() const {
     int resized = 0;
     double per_sweep = 0;
@@ -238,6 +248,7 @@ class SeamMrf {
   /// a time, so where a good labelling needs two neighbouring cells changed together (a fence's post
   /// tops) it can stop short of it; from here it need not. Ties go to the smaller shift. Cost: per
   /// resized axis and sweep, (|k_a| + 1)^2 pairwise terms per edge.
+  template <class = void>
   std::vector<int> separable_labels() const {
     std::array<std::vector<int>, 3> f;  // per axis and index along it: |d_a|
     std::array<int, 3> m{};             // shifts per axis
@@ -312,6 +323,7 @@ class SeamMrf {
   static constexpr std::size_t dense_table_limit = std::size_t(1) << 22;
 
   // Labels: every shift with d_a between 0 and k_a, x fastest.
+  template <class = void>
   void build_labels() {
     for (int w = 0; w <= std::abs(k_[2]); ++w)
       for (int v = 0; v <= std::abs(k_[1]); ++v)
@@ -320,6 +332,7 @@ class SeamMrf {
   }
 
   // Distances between input cells a and a + delta, |delta_a| <= |k_a|, for every input cell.
+  template <class = void>
   void build_table(CellDescriptors& cells) {
     const int deltas = int(span_.size());
     const int n_in = int(in_.size());
@@ -334,6 +347,7 @@ class SeamMrf {
   }
 
   // Edges: the forward half of the neighbourhood, so each pair once.
+  template <class = void>
   void build_edges(Neighbourhood nb) {
     const std::vector<Eigen::Array3i>& offsets = neighbour_offsets(nb, true);
     const int n = node_count();
@@ -345,6 +359,7 @@ class SeamMrf {
   }
 
   // Unary table: forbidden sources, plus the anchored ends (see the file comment).
+  template <class = void>
   void build_unary() {
     const int n = node_count(), m = label_count();
     unary_.assign(std::size_t(n) * m, 0.0);
@@ -373,6 +388,7 @@ class SeamMrf {
     }
   }
 
+  template <class = void>
   double cell_distance(CellDescriptors& cells, const Eigen::Array3i& a, const Eigen::Array3i& b) const {
     const bool ia = in_.inside(a), ib = in_.inside(b);
     const bool ea = !ia || cells.empty(in_.index(a)), eb = !ib || cells.empty(in_.index(b));
@@ -383,6 +399,7 @@ class SeamMrf {
   // The solver's lookups, so a pairwise term costs a few loads (the solver asks for about 3 E per move):
   // per node and label the input cell the node copies (-1 outside the input), per pair of labels the
   // index of their difference in span_, per edge the directions of its two cells toward each other.
+  template <class = void>
   void build_lookup() {
     const int n = node_count(), m = label_count();
     source_.resize(std::size_t(n) * std::size_t(m));
@@ -407,6 +424,7 @@ class SeamMrf {
   }
 
   // seam() of output node x toward direction t (its index) with labels li, lj, from the lookups.
+  template <class = void>
   double node_seam(int x, std::size_t t, int li, int lj) const {
     const std::size_t m = labels_.size();
     const int a = source_[std::size_t(x) * m + std::size_t(li)];
@@ -418,6 +436,7 @@ class SeamMrf {
 
   // D(x - di, x - dj) (descriptor) or G(x - di, x - dj; o) (geometry), o the direction from x to the
   // neighbour across the seam, from the per-request table.
+  template <class = void>
   double seam(const Eigen::Array3i& x, const Eigen::Array3i& o, const Eigen::Array3i& di,
               const Eigen::Array3i& dj) const {
     const Eigen::Array3i a = x - di, b = x - dj;
@@ -429,6 +448,7 @@ class SeamMrf {
 
   // The table's term for input cell c (its index), direction index t and label difference index u
   // (span_): D(c, c + delta), or G(c, c + delta; o) computed on first use.
+  template <class = void>
   double term(int c, std::size_t t, std::size_t u) const {
     const std::size_t entry = (std::size_t(c) * dirs_ + t) * std::size_t(span_.size()) + u;
     if (!slabs_) return table_[entry];
@@ -443,6 +463,7 @@ class SeamMrf {
     sparse_.emplace(entry, v);
     return v;
   }
+  template <class = void>
   double geometric(int c, std::size_t t, std::size_t u) const {
     const Eigen::Array3i cell = in_.cell(c), delta = span_.cell(std::int64_t(u)) - k_.abs();
     const Eigen::Array3i o(int(t % 3) - 1, int(t / 3 % 3) - 1, int(t / 9) - 1);  // inverse of direction()

@@ -65,7 +65,8 @@ enum class SeamEnergy {
 
 inline const char* seam_energy_name(SeamEnergy e) { return e == SeamEnergy::geometry ? "geometry" : "descriptor"; }
 /// "geometry" or "descriptor"; false for anything else (`out` untouched).
-inline bool parse_seam_energy(const std::string& name, SeamEnergy& out) {
+template <class = void>
+bool parse_seam_energy(const std::string& name, SeamEnergy& out) {
   if (name == "geometry") return out = SeamEnergy::geometry, true;
   if (name == "descriptor") return out = SeamEnergy::descriptor, true;
   return false;
@@ -75,7 +76,8 @@ namespace detail {
 
 /// The median distance from a point of `P` to its nearest other point (an even stride of at most 4000
 /// points asks); 0 with fewer than two points. Cost O(n log n).
-inline double median_nearest_distance(const MatrixX3f& P) {
+template <class = void>
+double median_nearest_distance(const MatrixX3f& P) {
   const Eigen::Index n = P.rows();
   if (n < 2) return 0.0;
   using Tree = PointSetTree;
@@ -109,6 +111,7 @@ class CellSlabs {
 
   /// Groups the dense samples of `analysis` by the cells of `grid` (model units). `spacing` (model units):
   /// the sample spacing; 0 estimates it (median nearest-neighbour distance of the samples).
+  template <class = void>
   CellSlabs(const Analysis& analysis, const Lattice& grid, double spacing = 0)
       : grid_(grid.cells), A_(grid.A), origin_(grid.origin) {
     Ainv_ = A_.inverse();
@@ -146,11 +149,14 @@ class CellSlabs {
   /// The cost of samples in one slab against nothing around the other (model units).
   double empty_mismatch() const { return empty_mismatch_; }
   /// Samples in the slab of inside cell c toward e (after the stride cap), and around it.
+  template <class = void>
   std::size_t queries(const Eigen::Array3i& c, const Eigen::Array3i& e) { return slab(c, e).q.size(); }
+  template <class = void>
   std::size_t around(const Eigen::Array3i& c, const Eigen::Array3i& e) { return slab(c, e).r.size(); }
 
   /// The mismatch of input cells c1 and c2 (either may lie outside the grid) around their face, edge or
   /// corner toward e (model units; cached). Symmetric in c1, c2.
+  template <class = void>
   double mismatch(const Eigen::Array3i& c1, const Eigen::Array3i& c2, const Eigen::Array3i& e) {
     if ((c1 == c2).all()) return 0.0;
     const bool in1 = grid_.inside(c1), in2 = grid_.inside(c2);
@@ -181,6 +187,7 @@ class CellSlabs {
   /// coordinate in [cut_lo, cut_hi) along it, as given: an end cell's overhang along cut_axis counts only
   /// where the range reaches past 0 or 1 (-INFINITY, INFINITY). The seam report's parts of a face on an
   /// output end, where an end cap holds one part and the labels' own copies another (retarget.hpp).
+  template <class = void>
   double plane_mismatch(const Eigen::Array3i& c1, const Eigen::Array3i& c2, int a, double f, int cut_axis = -1,
                         double cut_lo = 0.0, double cut_hi = 1.0) {
     if ((c1 == c2).all()) return 0.0;
@@ -237,6 +244,7 @@ class CellSlabs {
     std::vector<int> fail, cut;
     std::vector<char> valid;
   };
+  template <class = void>
   const SeamPositions& seam_positions(const Eigen::Array3i& s, int a, const Eigen::Array3i& delta, int K) {
     const auto key = std::make_tuple(grid_.inside(s) ? grid_.index(s) : -1, a, delta[0], delta[1], delta[2], K);
     const auto hit = positions_cache_.find(key);
@@ -284,6 +292,7 @@ class CellSlabs {
   }
 
   /// The index 0..26 of a direction (components -1, 0, 1; x fastest).
+  template <class = void>
   static std::size_t direction(const Eigen::Array3i& e) {
     return std::size_t((e[0] + 1) + 3 * ((e[1] + 1) + 3 * (e[2] + 1)));
   }
@@ -294,6 +303,7 @@ class CellSlabs {
     std::vector<Eigen::Vector3d> q, r;  // relative to the cell's corner origin + A c, model units
   };
 
+  template <class = void>
   const Slab& slab(const Eigen::Array3i& c, const Eigen::Array3i& e) {
     Slab& s = slabs_[std::size_t(grid_.index(c)) * 27 + direction(e)];
     if (s.built) return s;
@@ -314,6 +324,7 @@ class CellSlabs {
   // it (the interval widened by the margin, from c and its neighbours). Along `exact_axis` (a plane
   // slab) the interval is not clamped and may reach into the neighbours there: their samples count.
   // Along `cut_axis` it is not clamped either (plane_mismatch's cut range, as given).
+  template <class = void>
   void fill_slab(Slab& s, const Eigen::Array3i& c, double lo[3], double hi[3], int exact_axis = -1,
                  int cut_axis = -1) {
     for (int a = 0; a < 3; ++a) {
@@ -356,6 +367,7 @@ class CellSlabs {
   }
 
   // max over q of the distance to its nearest r.
+  template <class = void>
   static double directed(const std::vector<Eigen::Vector3d>& Q, const std::vector<Eigen::Vector3d>& R) {
     double worst = 0;
     for (const Eigen::Vector3d& q : Q) {
@@ -372,6 +384,7 @@ class CellSlabs {
     return std::sqrt(worst);
   }
 
+  template <class = void>
   double compare(const Slab& s1, const Slab& s2) const {
     if (s1.q.empty() && s2.q.empty()) return 0.0;
     double d = 0;
@@ -404,6 +417,7 @@ class CellSlabs {
   std::shared_ptr<SampleTree> tree_;
   std::map<std::tuple<int, int, int, int, int, int>, SeamPositions> positions_cache_;
 
+  template <class = void>
   const detail::PointSetTree& sample_tree() {
     if (tree_) return *tree_->tree;
     tree_ = std::make_shared<SampleTree>();

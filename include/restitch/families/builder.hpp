@@ -60,6 +60,7 @@ class SampleMeshBuilder {
 
   /// cell: target edge length of the subdivision (model units, > 0);
   /// uv_unit: model units per texture repeat (> 0); generators: 1 or 2.
+  template <class = void>
   SampleMeshBuilder(double cell, double uv_unit, int generators, bool count_only)
       : cell_(cell), uv_unit_(uv_unit), generators_(generators), count_only_(count_only) {
     RESTITCH_ASSERT(cell > 0 && uv_unit > 0, "the sample builder needs a positive cell size and UV unit");
@@ -67,16 +68,19 @@ class SampleMeshBuilder {
   }
 
   /// Adds a material; returns its index. Groups are made per used material at `finish`.
+  template <class = void>
   int add_material(const Material& m) {
     materials_.push_back(m);
     return static_cast<int>(materials_.size()) - 1;
   }
+  template <class = void>
   void set_material(int m) {
     RESTITCH_ASSERT(m >= 0 && m < static_cast<int>(materials_.size()), "set_material: no such material");
     material_ = m;
   }
   /// The block that following patches belong to: its model-space offset and
   /// its index along generator 0 and 1 (-1 start cap, 0.. modules, n end cap).
+  template <class = void>
   void set_block(const Vec3& offset, int block0, int block1 = 0) {
     offset_ = offset;
     block_ = {block0, block1};
@@ -87,6 +91,7 @@ class SampleMeshBuilder {
 
   /// A planar quad p0 p1 p2 p3, counter-clockwise seen from its front.
   /// p3 == p2 is allowed (a triangle given as a quad) but `triangle` is better.
+  template <class = void>
   void quad(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3) {
     const int nu = segments(std::max((p1 - p0).norm(), (p2 - p3).norm()));
     const int nv = segments(std::max((p3 - p0).norm(), (p2 - p1).norm()));
@@ -116,6 +121,7 @@ class SampleMeshBuilder {
   }
 
   /// A triangle p0 p1 p2, counter-clockwise seen from its front.
+  template <class = void>
   void triangle(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
     const int m = segments(std::max({(p1 - p0).norm(), (p2 - p1).norm(), (p0 - p2).norm()}));
     vertices_ += std::uint64_t(m + 1) * std::uint64_t(m + 2) / 2;
@@ -139,6 +145,7 @@ class SampleMeshBuilder {
   }
 
   /// An axis-aligned box [lo, hi] with the faces in `faces` (BoxFaces bits), normals outward.
+  template <class = void>
   void box(const Vec3& lo, const Vec3& hi, unsigned faces) {
     RESTITCH_ASSERT((lo.array() < hi.array()).all(), "box: lo must be below hi on every axis");
     const double lx = lo.x(), ly = lo.y(), lz = lo.z(), hx = hi.x(), hy = hi.y(), hz = hi.z();
@@ -151,6 +158,7 @@ class SampleMeshBuilder {
   }
 
   /// A rectangle in the plane z = const, facing +z (front) or -z.
+  template <class = void>
   void rect_z(double x0, double x1, double y0, double y1, double z, bool front) {
     if (front)
       quad({x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y1, z});
@@ -163,6 +171,7 @@ class SampleMeshBuilder {
   /// triangles (indices into the profile, counter-clockwise; a 4th index of
   /// -1 marks a triangle) for the two end faces. Side k joins profile
   /// vertex k to k+1 and is emitted when bit k of `sides` is set.
+  template <class = void>
   void prism_z(const std::vector<Eigen::Vector2d>& profile, const std::vector<std::array<int, 4>>& patches, double z0,
                double z1, unsigned sides, bool front, bool back) {
     RESTITCH_ASSERT(profile.size() >= 3 && z0 < z1, "prism_z: needs a polygon and z0 < z1");
@@ -192,6 +201,7 @@ class SampleMeshBuilder {
   /// A square frustum along y: cross-section centred at (cx, cz), half-size
   /// h0 at y0 and h1 at y1 (y0 < y1; one of h0, h1 may be 0: a pyramid).
   /// Four sides, plus the bottom (-y) and top (+y) squares when asked.
+  template <class = void>
   void frustum_y(double cx, double cz, double y0, double y1, double h0, double h1, bool bottom, bool top) {
     RESTITCH_ASSERT(y0 < y1 && h0 >= 0 && h1 >= 0 && (h0 > 0 || h1 > 0), "frustum_y: bad extent");
     const double dirs[4][2] = {{0, 1}, {1, 0}, {0, -1}, {-1, 0}};  // outward (x, z): +z, +x, -z, -x
@@ -215,6 +225,7 @@ class SampleMeshBuilder {
   /// Moves the result into `mesh` (one group per used material, normals and
   /// one UV set) and the per-generator block index of every face into
   /// `face_block`. Unused materials are dropped.
+  template <class = void>
   void finish(const std::string& sample_name, Mesh& mesh, std::vector<Eigen::VectorXi>& face_block) {
     RESTITCH_ASSERT(!count_only_, "finish: a counting builder holds no mesh");
     const Eigen::Index nv = static_cast<Eigen::Index>(V_.size() / 3), nf = static_cast<Eigen::Index>(F_.size() / 3);
@@ -246,16 +257,19 @@ class SampleMeshBuilder {
   }
 
  private:
+  template <class = void>
   int segments(double length) const {
     const double s = std::ceil(length / cell_ - 1e-9);
     return s < 1 ? 1 : (s > 1e9 ? 1000000000 : static_cast<int>(s));
   }
 
+  template <class = void>
   static Vec3 face_normal(const Vec3& c) {
     const double l = c.norm();
     return l > 0 ? Vec3(c / l) : Vec3(0, 0, 1);
   }
 
+  template <class = void>
   void box_square(double cx, double cz, double y, double h, bool up) {
     if (up)
       quad({cx - h, y, cz - h}, {cx - h, y, cz + h}, {cx + h, y, cz + h}, {cx + h, y, cz - h});
@@ -263,6 +277,7 @@ class SampleMeshBuilder {
       quad({cx - h, y, cz - h}, {cx + h, y, cz - h}, {cx + h, y, cz + h}, {cx - h, y, cz + h});
   }
 
+  template <class = void>
   void push_vertex(const Vec3& local, const Vec3& n) {
     const Vec3 p = local + offset_;
     V_.insert(V_.end(), {float(p.x()), float(p.y()), float(p.z())});
@@ -279,6 +294,7 @@ class SampleMeshBuilder {
     UV_.insert(UV_.end(), {float(u / uv_unit_), float(v / uv_unit_)});
   }
 
+  template <class = void>
   void push_triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     F_.insert(F_.end(), {a, b, c});
     FG_.push_back(static_cast<std::uint32_t>(material_));

@@ -76,7 +76,8 @@ namespace restitch {
 namespace families {
 
 /// Every sample, in a fixed (alphabetical) order, with its parameters and defaults.
-inline const std::vector<SampleInfo>& catalog() {
+template <class = void>
+const std::vector<SampleInfo>& catalog() {
   static const std::vector<SampleInfo> c = [] {
     std::vector<SampleInfo> v;
     for (const auto& f : detail::families()) v.push_back(f.info());
@@ -87,7 +88,8 @@ inline const std::vector<SampleInfo>& catalog() {
 
 /// The sample `name` with its defaults changed by `overrides` (parameter
 /// name -> value). See the contract at the top of this file. Cost O(#F).
-inline Result<SampleModel> generate(const std::string& name, const std::map<std::string, double>& overrides = {}) {
+template <class = void>
+Result<SampleModel> generate(const std::string& name, const std::map<std::string, double>& overrides = {}) {
   return restitch::detail::guarded("generate", [&]() -> Result<SampleModel> {
     const auto& fams = detail::families();
     const auto& cat = catalog();

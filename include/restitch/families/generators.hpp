@@ -29,6 +29,7 @@ namespace detail {
 class ParameterValues {
  public:
   explicit ParameterValues(std::map<std::string, double> v) : v_(std::move(v)) {}
+  template <class = void>
   double operator[](const char* name) const {
     const auto it = v_.find(name);
     RESTITCH_ASSERT(it != v_.end(), "sample family reads a parameter it did not declare");
@@ -50,7 +51,8 @@ using restitch::detail::box_pos_z;
 using restitch::detail::SampleMeshBuilder;
 using Vec3 = Eigen::Vector3d;
 
-inline Material make_material(const char* name, float r, float g, float b, float metallic, float roughness) {
+template <class = void>
+Material make_material(const char* name, float r, float g, float b, float metallic, float roughness) {
   Material m;
   m.name = name;
   m.base_color = Eigen::Vector4f(r, g, b, 1.0f);
@@ -59,7 +61,8 @@ inline Material make_material(const char* name, float r, float g, float b, float
   return m;
 }
 
-inline std::string format_number(double v) {
+template <class = void>
+std::string format_number(double v) {
   std::ostringstream s;
   s.precision(10);
   s << v;
@@ -88,7 +91,8 @@ struct Blocks {
 // board to the top board; shelf boards sit between dividers; the top and
 // bottom boards run between the side panels. Faces in contact are left out.
 
-inline SampleInfo bookshelf_info() {
+template <class = void>
+SampleInfo bookshelf_info() {
   return {"bookshelf",
           "A bookshelf: columns x shelves compartments between two side panels, top and bottom boards, vertical "
           "dividers, shelf boards and a back panel. Repeats along x (columns) and y (shelves).",
@@ -105,7 +109,8 @@ inline SampleInfo bookshelf_info() {
 
 inline Status bookshelf_check(const ParameterValues&) { return {}; }
 
-inline void bookshelf_build(const ParameterValues& P, SampleMeshBuilder& B, SampleModel& out) {
+template <class = void>
+void bookshelf_build(const ParameterValues& P, SampleMeshBuilder& B, SampleModel& out) {
   const int c = P.count("columns"), r = P.count("shelves");
   const double p = P["column_pitch"], q = P["shelf_pitch"], D = P["depth"], t = P["board_thickness"],
                bk = P["back_thickness"];
@@ -160,7 +165,8 @@ inline void bookshelf_build(const ParameterValues& P, SampleMeshBuilder& B, Samp
 // in the caps. Each bay holds an opening with reveals, a frame of four boxes
 // on the wall, a recessed glass pane and a sill.
 
-inline std::vector<Parameter> facade_parameters(double shear) {
+template <class = void>
+std::vector<Parameter> facade_parameters(double shear) {
   return {{"columns", 5, 1, 64, true, "window bays side by side (repeats along x)"},
           {"floors", 4, 1, 64, true, "floors (repeats along y)"},
           {"bay_width", 3.0, 1.0, 10.0, false, "width of one window bay (m)"},
@@ -179,14 +185,16 @@ inline std::vector<Parameter> facade_parameters(double shear) {
           {"detail", 1, 1, 64, true, "tessellation level: edges are cut every 1 m / detail"}};
 }
 
-inline SampleInfo facade_info() {
+template <class = void>
+SampleInfo facade_info() {
   return {"facade",
           "A building facade: a wall with columns x floors windows (frame, recessed glass, sill), a plinth and a "
           "parapet with a cornice. Repeats along x (columns) and y (floors).",
           "m", facade_parameters(0.0)};
 }
 
-inline SampleInfo facade_sheared_info() {
+template <class = void>
+SampleInfo facade_sheared_info() {
   return {"facade_sheared",
           "The facade with every floor shifted sideways by `shear`: the lattice generators are (bay_width, 0, 0) "
           "and (shear, floor_height, 0), not orthogonal; the building is a stepped parallelogram in the wall plane.",
@@ -196,7 +204,8 @@ inline SampleInfo facade_sheared_info() {
 constexpr double facade_sill_overhang = 0.05, facade_sill_thickness = 0.06, facade_sill_depth = 0.08,
                  facade_glass_thickness = 0.02, facade_cornice_depth = 0.15, facade_plinth_depth = 0.04;
 
-inline Status facade_check(const ParameterValues& P) {
+template <class = void>
+Status facade_check(const ParameterValues& P) {
   const double pw = P["bay_width"], ph = P["floor_height"], ww = P["window_width"], wh = P["window_height"],
                sh = P["sill_height"], f = P["frame_width"], T = P["wall_thickness"], gr = P["glass_recess"];
   RESTITCH_TRY(constraint(
@@ -219,7 +228,8 @@ inline Status facade_check(const ParameterValues& P) {
   return {};
 }
 
-inline void facade_build(const ParameterValues& P, SampleMeshBuilder& B, SampleModel& out) {
+template <class = void>
+void facade_build(const ParameterValues& P, SampleMeshBuilder& B, SampleModel& out) {
   const int c = P.count("columns"), r = P.count("floors");
   const double pw = P["bay_width"], ph = P["floor_height"], ww = P["window_width"], wh = P["window_height"],
                sh = P["sill_height"], T = P["wall_thickness"], f = P["frame_width"], fd = P["frame_depth"],
@@ -310,7 +320,8 @@ inline void facade_build(const ParameterValues& P, SampleMeshBuilder& B, SampleM
 // of the picket height). Posts are centred on the rails' mid-plane and carry
 // a pyramid cap.
 
-inline SampleInfo fence_info() {
+template <class = void>
+SampleInfo fence_info() {
   return {"fence",
           "A picket fence: pickets with pointed tops on two horizontal rails between two posts. Repeats along x "
           "(pickets) only.",
@@ -328,7 +339,8 @@ inline SampleInfo fence_info() {
            {"detail", 2, 1, 64, true, "tessellation level: edges are cut every 0.1 m / detail"}}};
 }
 
-inline Status fence_check(const ParameterValues& P) {
+template <class = void>
+Status fence_check(const ParameterValues& P) {
   const double p = P["picket_pitch"], w = P["picket_width"], h = P["picket_height"], tip = P["point_height"],
                rh = P["rail_height"], ph = P["post_height"];
   RESTITCH_TRY(constraint(
@@ -346,7 +358,8 @@ inline Status fence_check(const ParameterValues& P) {
   return {};
 }
 
-inline void fence_build(const ParameterValues& P, SampleMeshBuilder& B, SampleModel& out) {
+template <class = void>
+void fence_build(const ParameterValues& P, SampleMeshBuilder& B, SampleModel& out) {
   const int n = P.count("pickets");
   const double p = P["picket_pitch"], w = P["picket_width"], h = P["picket_height"], pt = P["picket_thickness"],
                tip = P["point_height"], pw = P["post_width"], ph = P["post_height"], rh = P["rail_height"],
@@ -392,7 +405,8 @@ inline void fence_build(const ParameterValues& P, SampleMeshBuilder& B, SampleMo
 // so every part (body, pins) is a closed surface and the model has no boundary
 // edges (positions welded: each face has its own vertices).
 
-inline SampleInfo pin_header_info() {
+template <class = void>
+SampleInfo pin_header_info() {
   return {"pin_header",
           "A single-row pin header: square pins at a 2.54 mm pitch through a plastic body made of one notched "
           "segment per pin. Repeats along x (pins) only. Millimetres.",
@@ -411,7 +425,8 @@ inline SampleInfo pin_header_info() {
             "1: cap the pins where they meet the body, so every part is a closed surface (0 boundary edges)"}}};
 }
 
-inline Status pin_header_check(const ParameterValues& P) {
+template <class = void>
+Status pin_header_check(const ParameterValues& P) {
   const double p = P["pitch"], H = P["body_height"], e = P["end_length"], c = P["notch"], a = P["pin_size"];
   RESTITCH_TRY(
       constraint(c < e, "notch = " + format_number(c) + " must be less than end_length = " + format_number(e)));
@@ -423,7 +438,8 @@ inline Status pin_header_check(const ParameterValues& P) {
   return {};
 }
 
-inline void pin_header_build(const ParameterValues& P, SampleMeshBuilder& B, SampleModel& out) {
+template <class = void>
+void pin_header_build(const ParameterValues& P, SampleMeshBuilder& B, SampleModel& out) {
   const int n = P.count("pins");
   const double p = P["pitch"], H = P["body_height"], d = P["body_depth"], e = P["end_length"], c = P["notch"],
                a = P["pin_size"] / 2, above = P["pin_above"], below = P["pin_below"];
@@ -479,7 +495,8 @@ struct SampleFamily {
   double uv_unit;  ///< model units per texture repeat
 };
 
-inline const std::vector<SampleFamily>& families() {
+template <class = void>
+const std::vector<SampleFamily>& families() {
   static const std::vector<SampleFamily> f = {
       {bookshelf_info, bookshelf_check, bookshelf_build, 0.1, 1.0},
       {facade_info, facade_check, facade_build, 1.0, 1.0},

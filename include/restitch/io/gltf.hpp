@@ -122,7 +122,8 @@ namespace restitch {
 
 /// Loads a glTF model from bytes. `base_dir` is where external buffers and
 /// images are looked up ("" = none may be external). Warnings go to `report`.
-inline Result<Mesh> load_gltf_from_memory(const std::uint8_t* data, std::size_t size, const std::string& base_dir = "",
+template <class = void>
+Result<Mesh> load_gltf_from_memory(const std::uint8_t* data, std::size_t size, const std::string& base_dir = "",
                                           GltfLoadReport* report = nullptr, const GltfLimits& limits = {}) {
   return detail::guarded("load_gltf_from_memory", [&]() -> Result<Mesh> {
     GltfLoadReport local;
@@ -137,7 +138,8 @@ inline Result<Mesh> load_gltf_from_memory(const std::uint8_t* data, std::size_t 
 }
 
 /// Loads a .glb or .gltf file (see the header comment for what is carried).
-inline Result<Mesh> load_gltf(const std::string& path, GltfLoadReport* report = nullptr,
+template <class = void>
+Result<Mesh> load_gltf(const std::string& path, GltfLoadReport* report = nullptr,
                               const GltfLimits& limits = {}) {
   return detail::guarded("load_gltf", [&]() -> Result<Mesh> {
     std::vector<std::uint8_t> bytes;
@@ -149,7 +151,8 @@ inline Result<Mesh> load_gltf(const std::string& path, GltfLoadReport* report = 
 }
 
 /// Encodes a mesh as .glb bytes (deterministic).
-inline Result<std::vector<std::uint8_t>> save_glb_to_memory(const Mesh& mesh) {
+template <class = void>
+Result<std::vector<std::uint8_t>> save_glb_to_memory(const Mesh& mesh) {
   return detail::guarded("save_glb_to_memory", [&]() -> Result<std::vector<std::uint8_t>> {
     tinygltf::Model m;
     RESTITCH_TRY(detail::build_model(mesh, m));
@@ -162,7 +165,8 @@ inline Result<std::vector<std::uint8_t>> save_glb_to_memory(const Mesh& mesh) {
 /// Saves a mesh as .glb (binary) or .gltf (JSON, embedded buffer) by the
 /// path's extension; any other extension is an invalid_argument. Written to
 /// a temporary file beside `path`, then renamed over it.
-inline Status save_gltf(const Mesh& mesh, const std::string& path) {
+template <class = void>
+Status save_gltf(const Mesh& mesh, const std::string& path) {
   return detail::guarded("save_gltf", [&]() -> Status {
     const std::string ext = detail::lower_extension(path);
     if (ext != ".glb" && ext != ".gltf")

@@ -44,7 +44,8 @@ namespace restitch {
 namespace detail {
 inline nlohmann::json vec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 inline nlohmann::json arr3(const Eigen::Array3i& v) { return {v[0], v[1], v[2]}; }
-inline nlohmann::json tests_json(const DominantOffset& d) {
+template <class = void>
+nlohmann::json tests_json(const DominantOffset& d) {
   nlohmann::json out = nlohmann::json::array();
   for (const OffsetTest& t : d.tests)
     out.push_back(
@@ -53,7 +54,8 @@ inline nlohmann::json tests_json(const DominantOffset& d) {
 }
 }  // namespace detail
 
-inline nlohmann::json analysis_json(const Analysis& a) {
+template <class = void>
+nlohmann::json analysis_json(const Analysis& a) {
   nlohmann::json j;
   j["scale"] = a.normalization.scale;
   j["features"] = a.features.points.rows();
@@ -93,7 +95,8 @@ inline nlohmann::json analysis_json(const Analysis& a) {
   return j;
 }
 
-inline nlohmann::json retarget_json(const RetargetReport& r) {
+template <class = void>
+nlohmann::json retarget_json(const RetargetReport& r) {
   nlohmann::json j;
   j["steps"] = detail::arr3(r.steps);
   j["grid_steps"] = detail::arr3(r.grid_steps);

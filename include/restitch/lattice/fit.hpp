@@ -110,7 +110,8 @@ struct LatticeFit {
 namespace detail {
 
 /// Index of the chosen candidate given integer costs (the tie rule in the header).
-inline int choose_phase(const std::vector<std::size_t>& cost) {
+template <class = void>
+int choose_phase(const std::vector<std::size_t>& cost) {
   const int K = int(cost.size());
   const std::size_t best = *std::min_element(cost.begin(), cost.end());
   if (std::all_of(cost.begin(), cost.end(), [&](std::size_t c) { return c == best; })) return 0;
@@ -128,7 +129,8 @@ inline int choose_phase(const std::vector<std::size_t>& cost) {
 /// The end plane (header comment) among candidate positions j / K, j = j0 .. j1, of a cell, where
 /// the phase cost of position j is cost[(k_phase + j) mod K]: the cheapest, ties to the centre of the
 /// widest run (the lower one for an even length; among equal runs the first). -1 when j0 > j1.
-inline int choose_end(const std::vector<std::size_t>& cost, int k_phase, int j0, int j1) {
+template <class = void>
+int choose_end(const std::vector<std::size_t>& cost, int k_phase, int j0, int j1) {
   if (j0 > j1) return -1;
   const int K = int(cost.size());
   const auto at = [&](int j) { return cost[std::size_t((k_phase + j) % K)]; };
@@ -183,7 +185,8 @@ double periodic_reach(const PointSet& dense, const PointSetTree& tree, const Eig
 }
 
 /// Smallest integer n with n >= x, treating x within 1e-9 of an integer as that integer.
-inline long ceil_tolerant(double x) {
+template <class = void>
+long ceil_tolerant(double x) {
   const double r = std::round(x);
   return std::abs(x - r) <= 1e-9 ? long(r) : long(std::ceil(x));
 }
@@ -192,7 +195,8 @@ inline long ceil_tolerant(double x) {
 
 /// Fits the lattice (see header). Errors: invalid options or a singular axis
 /// matrix (invalid_argument); a mesh without referenced vertices (invalid_mesh).
-inline Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& norm, const PointSet& dense,
+template <class = void>
+Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& norm, const PointSet& dense,
                                       const PrincipalOffsets& axes, const LatticeFitOptions& options = {}) {
   if (options.phase_candidates < 1 || options.phase_candidates > 4096)
     return error(StatusCode::invalid_argument, "the number of candidate phases must be between 1 and 4096");
@@ -212,7 +216,7 @@ inline Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& nor
   Eigen::Array3d lo = Eigen::Array3d::Constant(INFINITY), hi = Eigen::Array3d::Constant(-INFINITY);
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
     for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d p = norm.to_normalized(mesh.V.row(mesh.F(f, k)).cast<double>().transpose());
+      const Eigen::Vector3d p = norm.to_normalized(mesh.V.row(mesh.F(f, k)).template cast<double>().transpose());
       const Eigen::Array3d c = (Ainv * p).array();
       lo = lo.min(c);
       hi = hi.max(c);

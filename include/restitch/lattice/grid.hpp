@@ -31,7 +31,8 @@ namespace restitch {
 enum class Neighbourhood { n26, n6 };
 
 /// `x` snapped onto the nearest integer when it is within `snap` of it.
-inline double snap_coordinate(double x, double snap) {
+template <class = void>
+double snap_coordinate(double x, double snap) {
   const double r = std::nearbyint(x);
   return std::abs(x - r) <= snap ? r : x;
 }
@@ -40,7 +41,8 @@ inline double snap_coordinate(double x, double snap) {
 /// whose first non-zero component (z, then y, then x) is positive, so each
 /// pair of neighbours is listed once. Order: z slowest, x fastest, -1 to 1.
 /// The lists are built once (thread-safe static initialisation) and shared.
-inline const std::vector<Eigen::Array3i>& neighbour_offsets(Neighbourhood nb, bool forward_half) {
+template <class = void>
+const std::vector<Eigen::Array3i>& neighbour_offsets(Neighbourhood nb, bool forward_half) {
   static const auto make = [](Neighbourhood n, bool forward) {
     std::vector<Eigen::Array3i> out;
     for (int dz = -1; dz <= 1; ++dz)
@@ -70,14 +72,17 @@ struct CellGrid {
   int index(int i, int j, int k) const { return i + dims[0] * (j + dims[1] * k); }
   int index(const Eigen::Array3i& c) const { return index(c[0], c[1], c[2]); }
   /// The cell of a linear index (the inverse of index()).
+  template <class = void>
   Eigen::Array3i cell(std::int64_t x) const {
     return Eigen::Array3i(int(x % dims[0]), int((x / dims[0]) % dims[1]), int(x / (std::int64_t(dims[0]) * dims[1])));
   }
   bool inside(const Eigen::Array3i& c) const { return (c >= 0).all() && (c < dims).all(); }
+  template <class = void>
   bool inside(std::int64_t i, std::int64_t j, std::int64_t k) const {
     return i >= 0 && j >= 0 && k >= 0 && i < dims[0] && j < dims[1] && k < dims[2];
   }
   /// The cell of a point in canonical coordinates (see the file comment).
+  template <class = void>
   Eigen::Array3i cell_of(const Eigen::Vector3d& canonical, double snap = 0) const {
     Eigen::Array3i c;
     for (int a = 0; a < 3; ++a)

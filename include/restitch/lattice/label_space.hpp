@@ -44,10 +44,12 @@ namespace restitch {
 struct LatticeLabels {
   static constexpr const char* name = "lattice";
 
+  template <class = void>
   Status grid(const Mesh&, const Analysis& analysis, Lattice& out) const {
     out = analysis.lattice;
     return {};
   }
+  template <class = void>
   Status grid_steps(const Analysis&, const Lattice& grid, const Eigen::Array3i& steps, Eigen::Array3i& out) const {
     for (int a = 0; a < 3; ++a)
       if (grid.dummy[a] && steps[a] != 0)
@@ -64,6 +66,7 @@ struct RegularLabels {
   static constexpr const char* name = "regular";
   double cell = 0.1;  ///< normalized units (docs/method.md 2.6)
 
+  template <class = void>
   Status grid(const Mesh& mesh, const Analysis& analysis, Lattice& out) const {
     if (!(cell > 0)) return error(StatusCode::invalid_argument, "the regular grid's cell size must be positive");
     const double size = analysis.normalization.to_model_length(cell);
@@ -77,6 +80,7 @@ struct RegularLabels {
     }
     return {};
   }
+  template <class = void>
   Status grid_steps(const Analysis& analysis, const Lattice& grid, const Eigen::Array3i& steps,
                     Eigen::Array3i& out) const {
     // The requested translation of the far end, in model units, snapped to the grid.

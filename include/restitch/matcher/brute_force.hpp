@@ -47,7 +47,8 @@ namespace detail {
 using RowMatrixXf = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 /// sum_k (double(a_k) - double(b_k))^2 in k order: the contract's distance, squared.
-inline double exact_squared_distance(const float* a, const float* b, Eigen::Index d) {
+template <class = void>
+double exact_squared_distance(const float* a, const float* b, Eigen::Index d) {
   double s = 0;
   for (Eigen::Index k = 0; k < d; ++k) {
     const double t = static_cast<double>(a[k]) - static_cast<double>(b[k]);
@@ -66,6 +67,7 @@ struct MatchProblem {
 
   std::size_t size() const { return ids.size(); }
   /// dx^2 + dy^2 + dz^2 in this order (the contract's formula, independent of vectorization).
+  template <class = void>
   double offset_squared(std::size_t i, std::size_t j) const {
     const double dx = position[j].x() - position[i].x(), dy = position[j].y() - position[i].y(),
                  dz = position[j].z() - position[i].z();
@@ -75,7 +77,8 @@ struct MatchProblem {
 };
 
 /// Checks the input, sizes `out` (all unmatched) and builds the compact problem.
-inline Status prepare_matching(const PointSet& features, const DescriptorMatrix& descriptors, float tau,
+template <class = void>
+Status prepare_matching(const PointSet& features, const DescriptorMatrix& descriptors, float tau,
                                std::vector<Match>& out, MatchProblem& p) {
   const Eigen::Index n = features.points.rows();
   if (descriptors.rows() != n)
@@ -103,7 +106,8 @@ inline Status prepare_matching(const PointSet& features, const DescriptorMatrix&
 
 /// Applies the tie rule to the candidates of compact feature i (a superset of
 /// its tie set, all admissible) and writes the match. Candidates may repeat.
-inline void choose_match(const MatchProblem& p, std::size_t i, const std::vector<std::int32_t>& candidates,
+template <class = void>
+void choose_match(const MatchProblem& p, std::size_t i, const std::vector<std::int32_t>& candidates,
                          const TieRule& ties, std::vector<double>& scratch, std::vector<Match>& out) {
   if (candidates.empty()) return;
   const Eigen::Index d = p.descriptor.cols();
@@ -131,7 +135,8 @@ inline void choose_match(const MatchProblem& p, std::size_t i, const std::vector
 /// dimension `dim` whose squared norms are at most `max_sq` (the float products
 /// and norms, plus the three float operations combining them, with a factor
 /// 2 to spare).
-inline double float_distance_error(Eigen::Index dim, double max_sq) {
+template <class = void>
+double float_distance_error(Eigen::Index dim, double max_sq) {
   const double u = 0x1.0p-24;
   const double du = static_cast<double>(dim) * u;
   const double gamma = du / (1.0 - du);
@@ -139,7 +144,8 @@ inline double float_distance_error(Eigen::Index dim, double max_sq) {
 }
 
 /// A float >= x (rounding up), for thresholds compared against float values.
-inline float float_at_least(double x) {
+template <class = void>
+float float_at_least(double x) {
   if (!(x < static_cast<double>(std::numeric_limits<float>::max()))) return std::numeric_limits<float>::infinity();
   float f = static_cast<float>(x);
   if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
@@ -152,6 +158,7 @@ inline float float_at_least(double x) {
 struct FloatTieBound {
   double err = 0;
   TieRule ties;
+  template <class = void>
   float operator()(float b) const {
     const double u = std::sqrt(std::max(0.0, double(b) + err));
     const double t = ties.upper(u);
@@ -160,7 +167,8 @@ struct FloatTieBound {
 };
 
 /// The largest squared norm of the descriptor rows (double), for float_distance_error.
-inline double max_squared_norm(const RowMatrixXf& d) {
+template <class = void>
+double max_squared_norm(const RowMatrixXf& d) {
   double max_sq = 0;
   for (Eigen::Index r = 0; r < d.rows(); ++r) max_sq = std::max(max_sq, d.row(r).cast<double>().squaredNorm());
   return max_sq;
@@ -227,7 +235,8 @@ namespace detail {
 /// Brute force on a prepared problem (prepare_matching; `out` sized by it, at least 2 features):
 /// the symmetric blocked scan on `threads` workers, then the exact re-ranking. Reports "matching"
 /// progress in [0, 0.95] during the scan. ReducedMatcher calls it where brute force is faster.
-inline Status match_all_pairs(const MatchProblem& p, const TieRule& ties, int threads, std::vector<Match>& out,
+template <class = void>
+Status match_all_pairs(const MatchProblem& p, const TieRule& ties, int threads, std::vector<Match>& out,
                               const Progress& progress) {
   const std::size_t n = p.size();
   // Best float distance b seen: a target can tie only under bound(b) (FloatTieBound).
@@ -286,6 +295,7 @@ struct BruteForceMatcher {
   /// the same whatever the number.
   int threads = 1;
 
+  template <class = void>
   Status match(const PointSet& features, const DescriptorMatrix& descriptors, float tau, std::vector<Match>& out,
                const Progress& progress = {}) const {
     return detail::guarded("BruteForceMatcher::match", [&]() -> Status {

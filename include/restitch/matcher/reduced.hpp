@@ -94,6 +94,7 @@ struct ReducedMatcher {
   /// whole brute-force scan there (see the header comment).
   Eigen::Index min_rows = 4096;
 
+  template <class = void>
   Status match(const PointSet& features, const DescriptorMatrix& descriptors, float tau, std::vector<Match>& out,
                const Progress& progress = {}) const {
     return detail::guarded("ReducedMatcher::match", [&]() -> Status {

@@ -157,7 +157,8 @@
 namespace restitch {
 
 /// The shared significance tests as the autocorrelation detector runs them (see the header comment).
-inline SignificanceOptions autocorrelation_significance() {
+template <class = void>
+SignificanceOptions autocorrelation_significance() {
   SignificanceOptions s;
   s.min_votes = 0;
   s.axis_contrast = true;
@@ -180,6 +181,7 @@ struct AutocorrelationOffsetDetector {
   /// contrast along each world axis at 2t (see the header comment), and no part test (no votes).
   SignificanceOptions significance = autocorrelation_significance();
 
+  template <class = void>
   Status detect(const OffsetEvidence& ev, OffsetDetection& out, const Progress& progress) const {
     return detail::guarded("AutocorrelationOffsetDetector::detect", [&]() -> Status {
       out = OffsetDetection{};
@@ -239,7 +241,8 @@ struct StructureValues {
 };
 
 namespace detail {
-inline Status sample_for_structure(const Mesh& mesh, const Normalization& norm, const StructureScoreOptions& o,
+template <class = void>
+Status sample_for_structure(const Mesh& mesh, const Normalization& norm, const StructureScoreOptions& o,
                                    const Progress& progress, PointSet& samples) {
   RESTITCH_TRY(validate(mesh));
   Result<PointSet> s = poisson_disk_sample(mesh, norm, o.spacing, o.seed, progress);
@@ -250,7 +253,8 @@ inline Status sample_for_structure(const Mesh& mesh, const Normalization& norm, 
 }  // namespace detail
 
 /// The strongest translational symmetry of a mesh (see the header comment): in [0, 1], 0 without a peak.
-inline Result<double> structure_score(const Mesh& mesh, const StructureScoreOptions& options = {},
+template <class = void>
+Result<double> structure_score(const Mesh& mesh, const StructureScoreOptions& options = {},
                                       const Progress& progress = {}) {
   return detail::guarded("structure_score", [&]() -> Result<double> {
     PointSet samples;
@@ -271,7 +275,8 @@ inline Result<double> structure_score(const Mesh& mesh, const StructureScoreOpti
 
 /// S_T of `mesh` at each of `offsets` (model units), sampled and voxelised in the `reference` normalization
 /// (e.g. the input's Analysis::normalization; see the header comment).
-inline Result<StructureValues> structure_at(const Mesh& mesh, const std::vector<Eigen::Vector3d>& offsets,
+template <class = void>
+Result<StructureValues> structure_at(const Mesh& mesh, const std::vector<Eigen::Vector3d>& offsets,
                                             const Normalization& reference, const StructureScoreOptions& options = {},
                                             const Progress& progress = {}) {
   return detail::guarded("structure_at", [&]() -> Result<StructureValues> {

@@ -153,6 +153,7 @@ struct DominantOffset {
   bool promoted = false;
 
   /// The test that rejected this offset (the first that failed), or null when it is significant.
+  template <class = void>
   const OffsetTest* failed_test() const {
     if (significant) return nullptr;
     for (const OffsetTest& t : tests)
@@ -161,6 +162,7 @@ struct DominantOffset {
   }
   /// Not significant, and on the whole surface it passed votes, overlap and contrast and failed a
   /// pattern test: two copies, not a pattern.
+  template <class = void>
   bool is_pair() const {
     const OffsetTest* f = failed_test();
     return f && is_pattern_test(f->name);
@@ -169,7 +171,8 @@ struct DominantOffset {
 
 /// A basis of the lattice the significant offsets of `offsets` span (independent_offsets,
 /// offsets/principal.hpp), for is_lattice_vector with the same `tolerance`.
-inline std::vector<Eigen::Vector3d> significant_basis(const std::vector<DominantOffset>& offsets, double tolerance) {
+template <class = void>
+std::vector<Eigen::Vector3d> significant_basis(const std::vector<DominantOffset>& offsets, double tolerance) {
   std::vector<Eigen::Vector3d> significant;
   for (const DominantOffset& o : offsets)
     if (o.significant) significant.push_back(o.offset);
@@ -246,6 +249,7 @@ struct SignificanceOptions {
   /// dominant offsets are the same whatever the number.
   int threads = 1;
 
+  template <class = void>
   bool valid() const {
     return min_overlap >= 0 && min_overlap <= 1 && std::isfinite(min_contrast) && min_repeat_ratio >= 0 &&
            std::isfinite(min_repeat_ratio) && max_double_drift >= 0;
@@ -259,7 +263,8 @@ namespace detail {
 /// offset is not, up to sign, one already significant, it becomes
 /// significant at that offset. Run last so that an offset the whole surface
 /// accepts (at either sign) keeps its whole-surface value.
-inline void significant_on_part(const SelfAligner& aligner, const OffsetEvidence& ev,
+template <class = void>
+void significant_on_part(const SelfAligner& aligner, const OffsetEvidence& ev,
                                 const std::vector<OffsetCandidate>& todo, const SignificanceOptions& tests,
                                 const std::vector<std::pair<std::size_t, std::size_t>>& failed,
                                 std::vector<DominantOffset>& out) {
@@ -298,7 +303,8 @@ inline void significant_on_part(const SelfAligner& aligner, const OffsetEvidence
 /// stage); a cancel gives StatusCode::cancelled. Deterministic.
 /// Cost: O(#candidates * (2 * iterations + 5) * 2048 * log #dense) plus the
 /// k-d tree builds, none when there is no candidate or no dense point.
-inline Status refine_and_test(const OffsetEvidence& ev, const std::vector<OffsetCandidate>& todo,
+template <class = void>
+Status refine_and_test(const OffsetEvidence& ev, const std::vector<OffsetCandidate>& todo,
                               const SignificanceOptions& tests, const Progress& progress,
                               std::vector<DominantOffset>& out) {
   if (todo.empty() || ev.dense.size() == 0) return {};
@@ -386,7 +392,8 @@ namespace detail {
 /// For each candidate (a peak at a bin centre), both ends of every vote in
 /// its bin or one of the 26 neighbours (the votes its mass counts), each
 /// feature once, in index order: the seeds of its part (offsets/part.hpp).
-inline void collect_part_seeds(const PointSet& features, const std::vector<Eigen::Vector3d>& offsets,
+template <class = void>
+void collect_part_seeds(const PointSet& features, const std::vector<Eigen::Vector3d>& offsets,
                                const std::vector<std::pair<std::int32_t, std::int32_t>>& voters, double bin_size,
                                std::vector<OffsetCandidate>& todo) {
   std::vector<Eigen::Vector3d> peak_bins;
@@ -416,6 +423,7 @@ struct HistogramOffsetDetector {
   /// The significance tests (mass, overlap, contrast, pattern, the part test), for refine_and_test.
   SignificanceOptions significance{};
 
+  template <class = void>
   Status detect(const OffsetEvidence& ev, OffsetDetection& out, const Progress& progress) const {
     return detail::guarded("HistogramOffsetDetector::detect", [&]() -> Status {
       out = OffsetDetection{};

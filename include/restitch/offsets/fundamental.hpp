@@ -86,7 +86,8 @@ struct FundamentalOptions {
 };
 
 /// The contrast of the overlap at t along its own direction (offsets/detector.hpp).
-inline double overlap_contrast(const SelfAligner& aligner, const Eigen::Vector3d& t, double at_t) {
+template <class = void>
+double overlap_contrast(const SelfAligner& aligner, const Eigen::Vector3d& t, double at_t) {
   const Eigen::Vector3d step = t.normalized() * (2 * aligner.options().overlap_radius());
   return at_t - 0.5 * (aligner.overlap(t - step) + aligner.overlap(t + step));
 }
@@ -101,7 +102,8 @@ struct FundamentalPeriod {
 /// divisor passes. `overlap_t` and `contrast_t` are those of t. `vertices`
 /// (optional, #P by 3 unique positions in the aligner's units) enables the
 /// exact-copy test.
-inline FundamentalPeriod fundamental_period(const SelfAligner& aligner, const Eigen::Vector3d& t, double overlap_t,
+template <class = void>
+FundamentalPeriod fundamental_period(const SelfAligner& aligner, const Eigen::Vector3d& t, double overlap_t,
                                             double contrast_t, const FundamentalOptions& options = {},
                                             const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices = nullptr) {
   FundamentalPeriod best;

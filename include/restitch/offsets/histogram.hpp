@@ -58,6 +58,7 @@ struct OffsetHistogram {
   std::size_t offsets = 0;  ///< votes cast in total (= sum of bin votes)
 
   /// Centre of a bin, in the offsets' units.
+  template <class = void>
   Eigen::Vector3d center(const Eigen::Vector3i& index) const {
     return (index.cast<double>().array() + 0.5).matrix() * bin_size;
   }
@@ -86,14 +87,16 @@ inline constexpr std::int64_t histogram_index_limit = (std::int64_t(1) << 20) - 
 
 inline Cell bin_cell(const Eigen::Vector3i& i) { return Cell{i.x(), i.y(), i.z()}; }
 
-inline bool bin_index_less(const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
+template <class = void>
+bool bin_index_less(const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
   if (a.x() != b.x()) return a.x() < b.x();
   if (a.y() != b.y()) return a.y() < b.y();
   return a.z() < b.z();
 }
 
 /// Integer offsets (dx, dy, dz) != 0 with dx^2 + dy^2 + dz^2 <= r2, in a fixed order.
-inline std::vector<Eigen::Vector3i> ball_stencil(int r2) {
+template <class = void>
+std::vector<Eigen::Vector3i> ball_stencil(int r2) {
   std::vector<Eigen::Vector3i> s;
   const int r = int(std::floor(std::sqrt(double(r2))));
   for (int x = -r; x <= r; ++x)
@@ -109,7 +112,8 @@ inline std::vector<Eigen::Vector3i> ball_stencil(int r2) {
 /// overwritten. Errors: bin_size not positive and finite, a non-finite
 /// offset, or an offset more than 2^20 bins from the origin (invalid_argument).
 /// Cost O(#offsets) expected, plus O(B log B) to rank the B non-empty bins.
-inline Status build_offset_histogram(const std::vector<Eigen::Vector3d>& offsets, double bin_size,
+template <class = void>
+Status build_offset_histogram(const std::vector<Eigen::Vector3d>& offsets, double bin_size,
                                      OffsetHistogram& out) {
   out = OffsetHistogram{};
   out.bin_size = bin_size;
@@ -135,7 +139,8 @@ inline Status build_offset_histogram(const std::vector<Eigen::Vector3d>& offsets
 }
 
 /// Sparsity of a ranked histogram (Fig. 5). All zero for an empty histogram. Cost O(B).
-inline Sparsity offset_sparsity(const OffsetHistogram& h) {
+template <class = void>
+Sparsity offset_sparsity(const OffsetHistogram& h) {
   Sparsity s;
   s.bins = h.bins.size();
   s.offsets = h.offsets;
@@ -155,7 +160,8 @@ inline Sparsity offset_sparsity(const OffsetHistogram& h) {
 /// by mass descending, then votes descending, then bin index ascending.
 /// `suppression_radius` is in the offsets' units; 0 makes every bin a peak.
 /// Cost O(B * S) hash look-ups, S = bins within the radius.
-inline std::vector<HistogramPeak> find_peaks(const OffsetHistogram& h, double suppression_radius) {
+template <class = void>
+std::vector<HistogramPeak> find_peaks(const OffsetHistogram& h, double suppression_radius) {
   RESTITCH_ASSERT(suppression_radius >= 0 && std::isfinite(suppression_radius),
                   "the suppression radius must be a non-negative finite number");
   const double rb = suppression_radius / h.bin_size;

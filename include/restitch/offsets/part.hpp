@@ -121,7 +121,8 @@ struct PartTest {
 
 /// The dense samples and anchors within `radius` of any seed, sorted, thinned
 /// at an even stride to the aligner's max_sources.
-inline SelfAligner::Sources repeated_part(const SelfAligner& aligner, const std::vector<Eigen::Vector3d>& seeds,
+template <class = void>
+SelfAligner::Sources repeated_part(const SelfAligner& aligner, const std::vector<Eigen::Vector3d>& seeds,
                                           double radius, std::size_t* samples = nullptr, bool with_anchors = true) {
   SelfAligner::Sources part;
   // Each index once (a mark per point; the balls overlap a lot), then sorted.
@@ -166,7 +167,8 @@ namespace detail {
 /// ICP on the surface at 2t is pulled by whatever else overlaps there (a fence's posts, where only one
 /// picket of three still overlaps); vertex copies at exactly 2 s are direct evidence that the repeat
 /// continues. `anchors`: the mesh's vertices (may be null).
-inline double vertex_double_drift(const PointSet* anchors, const Eigen::Vector3d& t, const SnapOptions& options = {}) {
+template <class = void>
+double vertex_double_drift(const PointSet* anchors, const Eigen::Vector3d& t, const SnapOptions& options = {}) {
   if (!anchors || anchors->size() == 0) return NAN;
   const Eigen::Matrix<double, Eigen::Dynamic, 3> P = anchors->points.cast<double>();
   const SnapResult once = snap_offset(P, t, options);
@@ -181,7 +183,8 @@ inline double least_drift(double icp, double vertices) { return std::isnan(verti
 /// The significance tests of offsets/detector.hpp on the part (see the
 /// header comment). `min_overlap` etc. are the detector's thresholds; `tau`
 /// the matcher's minimum offset length.
-inline PartTest test_on_part(const SelfAligner& aligner, const Eigen::Vector3d& start, const Eigen::Vector3d& refined,
+template <class = void>
+PartTest test_on_part(const SelfAligner& aligner, const Eigen::Vector3d& start, const Eigen::Vector3d& refined,
                              const std::vector<Eigen::Vector3d>& seeds, double tau, double min_overlap,
                              double min_contrast, double min_repeat_ratio, double max_double_drift,
                              const PartOptions& options) {

@@ -57,7 +57,8 @@ struct PrincipalOffsets {
 };
 
 /// Flips v so that its largest-magnitude component (lowest axis on ties) is positive.
-inline Eigen::Vector3d canonical_sign(const Eigen::Vector3d& v) {
+template <class = void>
+Eigen::Vector3d canonical_sign(const Eigen::Vector3d& v) {
   int k = 0;
   for (int a = 1; a < 3; ++a)
     if (std::abs(v[a]) > std::abs(v[k])) k = a;
@@ -66,14 +67,16 @@ inline Eigen::Vector3d canonical_sign(const Eigen::Vector3d& v) {
 
 /// True when the angle between a and b is at least `min_angle` (up to sign):
 /// |cos| <= cos(min_angle) + 1e-12.
-inline bool far_enough_apart(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double min_angle) {
+template <class = void>
+bool far_enough_apart(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double min_angle) {
   const double c = std::abs(a.dot(b)) / (a.norm() * b.norm());
   return c <= std::cos(min_angle) + 1e-12;
 }
 
 /// True when `v` is, within `tolerance`, a non-zero integer combination of the linearly independent
 /// `basis` (the principal offsets), or k times `other` for an integer |k| >= 1.
-inline bool is_lattice_vector(const Eigen::Vector3d& v, const std::vector<Eigen::Vector3d>& basis,
+template <class = void>
+bool is_lattice_vector(const Eigen::Vector3d& v, const std::vector<Eigen::Vector3d>& basis,
                               const Eigen::Vector3d* other, double tolerance) {
   if (other && other->squaredNorm() > 0) {
     const double k = std::round(v.dot(*other) / other->squaredNorm());
@@ -89,7 +92,8 @@ inline bool is_lattice_vector(const Eigen::Vector3d& v, const std::vector<Eigen:
 /// A linearly independent subset of `offsets`, taken greedily in their order: each offset joins when
 /// it is longer than `tolerance` and farther than `tolerance` from the span of those already taken
 /// (at most three). A basis for is_lattice_vector.
-inline std::vector<Eigen::Vector3d> independent_offsets(const std::vector<Eigen::Vector3d>& offsets,
+template <class = void>
+std::vector<Eigen::Vector3d> independent_offsets(const std::vector<Eigen::Vector3d>& offsets,
                                                         double tolerance) {
   std::vector<Eigen::Vector3d> basis;
   for (const Eigen::Vector3d& v : offsets) {
@@ -110,7 +114,8 @@ inline std::vector<Eigen::Vector3d> independent_offsets(const std::vector<Eigen:
 /// Replaces each offset that is an integer multiple (|k| >= 2, within
 /// `tolerance`) of a shorter offset of the list by the shortest such one, with
 /// d's sign (see header). Order and length are kept.
-inline std::vector<Eigen::Vector3d> reduce_to_fundamentals(const std::vector<Eigen::Vector3d>& ranked,
+template <class = void>
+std::vector<Eigen::Vector3d> reduce_to_fundamentals(const std::vector<Eigen::Vector3d>& ranked,
                                                            double tolerance) {
   std::vector<Eigen::Vector3d> out = ranked;
   for (std::size_t i = 0; i < ranked.size(); ++i) {
@@ -130,10 +135,12 @@ inline std::vector<Eigen::Vector3d> reduce_to_fundamentals(const std::vector<Eig
   return out;
 }
 
-inline void complete_with_dummies(PrincipalOffsets& p, double dummy_length = 0.2);
+template <class = void>
+void complete_with_dummies(PrincipalOffsets& p, double dummy_length = 0.2);
 
 /// The greedy selection and the dummies (see header). `dominant` in ranked order.
-inline PrincipalOffsets select_principal_offsets(const std::vector<Eigen::Vector3d>& dominant,
+template <class = void>
+PrincipalOffsets select_principal_offsets(const std::vector<Eigen::Vector3d>& dominant,
                                                  double min_angle = 3.14159265358979323846 / 3,
                                                  double dummy_length = 0.2) {
   PrincipalOffsets p;
@@ -156,7 +163,8 @@ inline PrincipalOffsets select_principal_offsets(const std::vector<Eigen::Vector
 /// analysis calls it again once the real axes are snapped onto the vertices: dummies made orthogonal to
 /// an offset before it was snapped keep its noise (a drawer pitch 1e-4 off the y axis tilted every cell
 /// plane across the dresser by as much, so each seam cut its boards on a slant).
-inline void complete_with_dummies(PrincipalOffsets& p, double dummy_length) {
+template <class>
+void complete_with_dummies(PrincipalOffsets& p, double dummy_length) {
   const auto dummy = [&](const Eigen::Vector3d& dir) { return canonical_sign(dir.normalized() * dummy_length); };
   if (p.real_count == 2) {
     p.axes[2] = dummy(p.axes[0].cross(p.axes[1]));

@@ -104,6 +104,7 @@ struct RefinedOffset {
 /// their adaptors). `anchors` may be null or empty.
 class SelfAligner {
  public:
+  template <class = void>
   explicit SelfAligner(const PointSet& cloud, IcpOptions options = {}, const PointSet* anchors = nullptr)
       : options_(options) {
     init(cloud_, &cloud);
@@ -117,10 +118,12 @@ class SelfAligner {
 
   /// Share of the dense source points p with a partner for p + t within the
   /// overlap radius (see header). 0 for an empty cloud.
+  template <class = void>
   double overlap(const Eigen::Vector3d& t) const { return overlap(t, cloud_.sources); }
 
   /// The same share over the given source points only (indices into the
   /// cloud; a part of the surface, offsets/part.hpp). 0 when `sources` is empty.
+  template <class = void>
   double overlap(const Eigen::Vector3d& t, const std::vector<std::uint32_t>& sources) const {
     if (sources.empty()) return 0;
     const double r2 = options_.overlap_radius() * options_.overlap_radius();
@@ -144,20 +147,24 @@ class SelfAligner {
   const PointSet* anchors() const { return anchors_.set; }
 
   /// Nearest cloud points to `q` within `radius` (appended to `out`, unsorted).
+  template <class = void>
   void cloud_within(const Eigen::Vector3d& q, double radius, std::vector<std::uint32_t>& out) const {
     within(cloud_, q, radius, out);
   }
   /// Anchors within `radius` of `q` (appended to `out`); none without anchors.
+  template <class = void>
   void anchors_within(const Eigen::Vector3d& q, double radius, std::vector<std::uint32_t>& out) const {
     if (anchors_.set) within(anchors_, q, radius, out);
   }
 
   /// Refines `start` by translation-only ICP (see header). Never fails; an
   /// offset with no pairs at all stays where it started, with overlap 0.
+  template <class = void>
   RefinedOffset refine(const Eigen::Vector3d& start) const { return refine(start, cloud_.sources, anchors_.sources); }
 
   /// The same ICP moving only `part`'s sources (onto the whole cloud); the
   /// overlap returned is over `part.cloud`.
+  template <class = void>
   RefinedOffset refine(const Eigen::Vector3d& start, const Sources& part) const {
     RefinedOffset r = refine(start, part.cloud, part.anchors);
     r.overlap = overlap(r.offset, part.cloud);
@@ -165,6 +172,7 @@ class SelfAligner {
   }
 
  private:
+  template <class = void>
   RefinedOffset refine(const Eigen::Vector3d& start, const std::vector<std::uint32_t>& sources,
                        const std::vector<std::uint32_t>& anchor_sources) const {
     RefinedOffset r;
@@ -194,6 +202,7 @@ class SelfAligner {
     std::vector<std::uint32_t> sources;
   };
 
+  template <class = void>
   void init(Cloud& c, const PointSet* set) {
     RESTITCH_ASSERT(set->normals.rows() == set->points.rows(), "a point set needs one normal per point");
     c.set = set;
@@ -207,6 +216,7 @@ class SelfAligner {
 
   // Nearest point of c to point i + t, if it lies within sqrt(max_d2) and its normal agrees with
   // point i's. The bound only prunes the search (every caller rejects a farther partner).
+  template <class = void>
   static bool partner(const Cloud& c, std::uint32_t i, const Eigen::Vector3d& t, std::uint32_t& j, double& d2,
                       double normal_cosine, double max_d2) {
     const PointSet& s = *c.set;
@@ -222,11 +232,13 @@ class SelfAligner {
     d2 = (s.points.row(idx).cast<double>().transpose() - q).squaredNorm();
     return d2 <= max_d2;
   }
+  template <class = void>
   bool partner(const Cloud& c, std::uint32_t i, const Eigen::Vector3d& t, double max_d2, std::uint32_t& j,
                double& d2) const {
     return partner(c, i, t, j, d2, options_.normal_cosine, max_d2);
   }
 
+  template <class = void>
   static void within(const Cloud& c, const Eigen::Vector3d& q, double radius, std::vector<std::uint32_t>& out) {
     const float qf[3] = {float(q.x()), float(q.y()), float(q.z())};
     std::vector<std::pair<std::uint32_t, float>> found;
@@ -234,6 +246,7 @@ class SelfAligner {
     for (const auto& f : found) out.push_back(f.first);
   }
 
+  template <class = void>
   bool solve_step(const Eigen::Vector3d& t, double trim, double anchor_trim, const std::vector<std::uint32_t>& sources,
                   const std::vector<std::uint32_t>& anchor_sources, Eigen::Vector3d& step, double& rms) const {
     Eigen::Matrix3d H = Eigen::Matrix3d::Zero();

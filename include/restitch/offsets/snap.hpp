@@ -64,7 +64,8 @@ struct SnapResult {
 
 /// Refines `t` so that `points` + t lands on `points` (see the header comment).
 /// `points`: #P by 3, unique positions.
-inline SnapResult snap_offset(const Eigen::Matrix<double, Eigen::Dynamic, 3>& points, const Eigen::Vector3d& t,
+template <class = void>
+SnapResult snap_offset(const Eigen::Matrix<double, Eigen::Dynamic, 3>& points, const Eigen::Vector3d& t,
                               const SnapOptions& options = {}) {
   SnapResult result;
   result.offset = t;
@@ -200,7 +201,8 @@ struct RepeatPrecisionOptions {
 /// last rung: the vertices do not repeat within the largest radius (different tessellations, hand-placed
 /// copies), and `base` stays. The result is the largest over the offsets. Cost: O(#P) to build a grid of
 /// cells twice the largest radius, then at most 8 cells per query and offset. Deterministic.
-inline RepeatPrecision repeat_precision(const Eigen::Matrix<double, Eigen::Dynamic, 3>& points,
+template <class = void>
+RepeatPrecision repeat_precision(const Eigen::Matrix<double, Eigen::Dynamic, 3>& points,
                                         const std::vector<Eigen::Vector3d>& offsets, double diagonal, double base,
                                         const RepeatPrecisionOptions& options = {}) {
   RepeatPrecision result;

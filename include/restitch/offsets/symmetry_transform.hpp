@@ -34,15 +34,18 @@ struct VoxelGrid {
   std::vector<double> values;
 
   std::size_t cells() const { return std::size_t(dims[0]) * std::size_t(dims[1]) * std::size_t(dims[2]); }
+  template <class = void>
   std::size_t index(int x, int y, int z) const {
     return std::size_t(x) + std::size_t(dims[0]) * (std::size_t(y) + std::size_t(dims[1]) * std::size_t(z));
   }
+  template <class = void>
   bool contains(int x, int y, int z) const {
     return x >= 0 && y >= 0 && z >= 0 && x < dims[0] && y < dims[1] && z < dims[2];
   }
   /// The value at (x, y, z); 0 outside the grid.
   double at(int x, int y, int z) const { return contains(x, y, z) ? values[index(x, y, z)] : 0.0; }
   /// Resizes to `d` cells, all zero.
+  template <class = void>
   void reset(const Eigen::Array3i& d) {
     dims = d;
     values.assign(cells(), 0.0);
@@ -67,6 +70,7 @@ struct SymmetryTransform {
   /// The centre index of S (t = 0).
   Eigen::Array3i centre() const { return field.dims - 1; }
   /// S_T at voxel offset t; 0 beyond the field's support.
+  template <class = void>
   double at(const Eigen::Array3i& t) const {
     const Eigen::Array3i c = centre();
     return S.at(t[0] + c[0], t[1] + c[1], t[2] + c[2]);
@@ -84,7 +88,8 @@ struct SymmetryPeak {
 namespace detail {
 
 /// The smallest m >= n with no prime factor above 5 (n >= 1).
-inline std::size_t fft_friendly_size(std::size_t n) {
+template <class = void>
+std::size_t fft_friendly_size(std::size_t n) {
   for (std::size_t m = std::max<std::size_t>(n, 1);; ++m) {
     std::size_t r = m;
     for (std::size_t p : {2, 3, 5})
@@ -94,7 +99,8 @@ inline std::size_t fft_friendly_size(std::size_t n) {
 }
 
 // The grid of a point set: voxel edge, origin, field size and FFT size, within max_cells.
-inline Status choose_symmetry_grid(const MatrixX3f& points, double spacing, const SymmetryFieldOptions& options,
+template <class = void>
+Status choose_symmetry_grid(const MatrixX3f& points, double spacing, const SymmetryFieldOptions& options,
                                    SymmetryTransform& out) {
   if (!(spacing > 0) || !std::isfinite(spacing) || !(options.voxel_factor > 0) ||
       !std::isfinite(options.voxel_factor) || options.max_cells < 1)
@@ -152,7 +158,8 @@ inline bool fft_line_needed(int i, int n, int N) { return i < n || i > N - n; }
 
 /// Trilinear splat of `points` (moved by `shift`) into `field` (its dims kept, values reset) on the grid of
 /// edge `voxel` from `origin`; weights falling outside the grid are dropped.
-inline void splat_points(const MatrixX3f& points, const Eigen::Vector3d& shift, double voxel,
+template <class = void>
+void splat_points(const MatrixX3f& points, const Eigen::Vector3d& shift, double voxel,
                          const Eigen::Vector3d& origin, VoxelGrid& field) {
   field.values.assign(field.cells(), 0.0);
   for (Eigen::Index i = 0; i < points.rows(); ++i) {
@@ -165,7 +172,8 @@ inline void splat_points(const MatrixX3f& points, const Eigen::Vector3d& shift, 
 /// padding to `fft_size` (each N_a >= 2 n_a - 1, else invalid_argument), 1-D transforms along x, y, z (Eigen's
 /// FFT module). `R` gets dims 2 n - 1, R(t) at index t + n - 1. Reports fractions of `stage` after each pass;
 /// a cancel gives StatusCode::cancelled. An empty f gives an empty R.
-inline Status autocorrelate(const VoxelGrid& f, const Eigen::Array3i& fft_size, VoxelGrid& R,
+template <class = void>
+Status autocorrelate(const VoxelGrid& f, const Eigen::Array3i& fft_size, VoxelGrid& R,
                             const Progress& progress = {}, const char* stage = "autocorrelation") {
   const Eigen::Array3i n = f.dims, N = fft_size;
   if ((n < 0).any() || f.values.size() != f.cells())
@@ -233,7 +241,8 @@ inline Status autocorrelate(const VoxelGrid& f, const Eigen::Array3i& fft_size, 
 
 /// S_T of a point set (see the header comment): grid from `spacing` and `options`, trilinear splat,
 /// FFT autocorrelation, divided by R(0). Reports progress under `stage`. No points: an empty transform.
-inline Status symmetry_transform(const MatrixX3f& points, double spacing, const SymmetryFieldOptions& options,
+template <class = void>
+Status symmetry_transform(const MatrixX3f& points, double spacing, const SymmetryFieldOptions& options,
                                  SymmetryTransform& out, const Progress& progress = {},
                                  const char* stage = "autocorrelation") {
   out = SymmetryTransform{};
@@ -254,7 +263,8 @@ inline Status symmetry_transform(const MatrixX3f& points, double spacing, const 
 
 /// S_T at any offset t (points' units): sum_x f(x) g_t(x) / ||f||^2, g_t the splat of `points` moved by t on
 /// the transform's grid (see the header comment). `points` must be those the transform was built from.
-inline double symmetry_at(const MatrixX3f& points, const SymmetryTransform& st, const Eigen::Vector3d& t) {
+template <class = void>
+double symmetry_at(const MatrixX3f& points, const SymmetryTransform& st, const Eigen::Vector3d& t) {
   if (!(st.norm2 > 0)) return 0;
   double sum = 0;
   for (Eigen::Index i = 0; i < points.rows(); ++i) {
@@ -265,7 +275,8 @@ inline double symmetry_at(const MatrixX3f& points, const SymmetryTransform& st, 
 }
 
 /// S_T at a fractional voxel offset, interpolated trilinearly (0 beyond the support).
-inline double symmetry_interpolated(const SymmetryTransform& st, const Eigen::Array3d& t) {
+template <class = void>
+double symmetry_interpolated(const SymmetryTransform& st, const Eigen::Array3d& t) {
   const Eigen::Array3d u = t + st.centre().cast<double>();
   double sum = 0;
   detail::trilinear(st.S, u, [&](std::size_t k, double w) { sum += w * st.S.values[k]; });
@@ -284,7 +295,8 @@ struct SymmetryPeakOptions {
 
 /// The radial contrast of S_T at every voxel offset t != 0: K(t) = S_T(t) - (S_T(t - d u) + S_T(t + d u)) / 2,
 /// u = t / |t|, d = `distance` voxels (interpolated); 0 at t = 0. Same layout as st.S.
-inline VoxelGrid symmetry_contrast(const SymmetryTransform& st, double distance) {
+template <class = void>
+VoxelGrid symmetry_contrast(const SymmetryTransform& st, double distance) {
   VoxelGrid K;
   K.reset(st.S.dims);
   const Eigen::Array3i c = st.centre();
@@ -303,7 +315,8 @@ inline VoxelGrid symmetry_contrast(const SymmetryTransform& st, double distance)
 
 /// The peaks of S_T (see the header comment): local maxima of the radial contrast in the half-space, longer
 /// than tau, with S_T and contrast above the thresholds, ranked by S_T, non-maximum suppressed.
-inline std::vector<SymmetryPeak> symmetry_peaks(const SymmetryTransform& st, const SymmetryPeakOptions& o = {}) {
+template <class = void>
+std::vector<SymmetryPeak> symmetry_peaks(const SymmetryTransform& st, const SymmetryPeakOptions& o = {}) {
   std::vector<SymmetryPeak> found;
   const VoxelGrid& S = st.S;
   if (S.cells() == 0) return found;

@@ -29,7 +29,8 @@ inline bool is_pattern_test(const std::string& name) {
 }
 
 /// Appends a test to `tests` and returns whether it passed.
-inline bool record_test(std::vector<OffsetTest>& tests, const char* name, double value, double threshold,
+template <class = void>
+bool record_test(std::vector<OffsetTest>& tests, const char* name, double value, double threshold,
                         bool at_most = false) {
   const bool passed = at_most ? value <= threshold : value >= threshold;
   tests.push_back({name, value, threshold, at_most, passed});

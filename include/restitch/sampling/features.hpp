@@ -73,7 +73,8 @@
 namespace restitch {
 
 /// The rows of `a` followed by the rows of `b`. Cost O(#a + #b).
-inline PointSet concat(const PointSet& a, const PointSet& b) {
+template <class = void>
+PointSet concat(const PointSet& a, const PointSet& b) {
   RESTITCH_ASSERT(a.points.rows() == a.normals.rows() && b.points.rows() == b.normals.rows(),
                   "a PointSet needs one normal per point");
   PointSet out;
@@ -92,7 +93,8 @@ namespace detail {
 /// Representative of each referenced vertex position: equal positions map to
 /// their lowest index (rep), `order` lists the referenced vertices sorted by
 /// (x, y, z, index). Fails on a non-finite referenced vertex.
-inline Status merge_equal_positions(const Mesh& mesh, std::vector<std::uint32_t>& rep,
+template <class = void>
+Status merge_equal_positions(const Mesh& mesh, std::vector<std::uint32_t>& rep,
                                     std::vector<std::uint32_t>& order) {
   const Eigen::Index nv = mesh.V.rows();
   std::vector<char> used(static_cast<std::size_t>(nv), 0);
@@ -128,16 +130,17 @@ inline Status merge_equal_positions(const Mesh& mesh, std::vector<std::uint32_t>
 
 /// Area-weighted normal sums per representative (`sum`), and the normal of
 /// each one's largest face as the fallback for a zero sum (`best_normal`).
-inline void representative_normals(const Mesh& mesh, const std::vector<std::uint32_t>& rep,
+template <class = void>
+void representative_normals(const Mesh& mesh, const std::vector<std::uint32_t>& rep,
                                    std::vector<Eigen::Vector3d>& sum, std::vector<Eigen::Vector3d>& best_normal) {
   const std::size_t nv = static_cast<std::size_t>(mesh.V.rows());
   sum.assign(nv, Eigen::Vector3d::Zero());
   best_normal.assign(nv, Eigen::Vector3d(0, 0, 1));
   std::vector<double> best_area(nv, 0.0);
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)).transpose().cast<double>();
-    const Eigen::Vector3d b = mesh.V.row(mesh.F(f, 1)).transpose().cast<double>();
-    const Eigen::Vector3d c = mesh.V.row(mesh.F(f, 2)).transpose().cast<double>();
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)).transpose().template cast<double>();
+    const Eigen::Vector3d b = mesh.V.row(mesh.F(f, 1)).transpose().template cast<double>();
+    const Eigen::Vector3d c = mesh.V.row(mesh.F(f, 2)).transpose().template cast<double>();
     const Eigen::Vector3d n = (b - a).cross(c - a);
     const double len = n.norm();
     std::uint32_t seen[3];
@@ -158,7 +161,8 @@ inline void representative_normals(const Mesh& mesh, const std::vector<std::uint
 /// Neutral: no zero-area incident triangle, at most two distinct incident normals, and either no feature
 /// edge (inside a flat region: one normal, or two opposite ones) or exactly two, collinear and opposite
 /// (inside a straight crease or a straight open edge).
-inline std::vector<char> shape_neutral(const Mesh& mesh, const std::vector<std::uint32_t>& rep,
+template <class = void>
+std::vector<char> shape_neutral(const Mesh& mesh, const std::vector<std::uint32_t>& rep,
                                        double tolerance = 1e-4) {
   const std::size_t nv = static_cast<std::size_t>(mesh.V.rows());
   std::vector<char> neutral(nv, 1), normals(nv, 0);  // normals: distinct incident normals seen (capped at 3)
@@ -174,9 +178,9 @@ inline std::vector<char> shape_neutral(const Mesh& mesh, const std::vector<std::
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
     std::uint32_t r[3];
     for (int k = 0; k < 3; ++k) r[k] = rep[mesh.F(f, k)];
-    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)).transpose().cast<double>();
-    const Eigen::Vector3d b = mesh.V.row(mesh.F(f, 1)).transpose().cast<double>();
-    const Eigen::Vector3d c = mesh.V.row(mesh.F(f, 2)).transpose().cast<double>();
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)).transpose().template cast<double>();
+    const Eigen::Vector3d b = mesh.V.row(mesh.F(f, 1)).transpose().template cast<double>();
+    const Eigen::Vector3d c = mesh.V.row(mesh.F(f, 2)).transpose().template cast<double>();
     const Eigen::Vector3d n = (b - a).cross(c - a);
     const double len = n.norm();
     if (!(len > 0) || r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) {
@@ -285,7 +289,8 @@ Status thin_vertices(std::vector<std::uint32_t>& reps, std::size_t cap, double s
 
 }  // namespace detail
 
-inline Result<PointSet> vertex_features(const Mesh& mesh, const Normalization& norm, std::size_t cap = 20000,
+template <class = void>
+Result<PointSet> vertex_features(const Mesh& mesh, const Normalization& norm, std::size_t cap = 20000,
                                         double subsample_spacing = 0.02, std::uint64_t seed = 1,
                                         bool keep_flat = false) {
   if (!(subsample_spacing > 0) || !std::isfinite(subsample_spacing))
@@ -317,7 +322,7 @@ inline Result<PointSet> vertex_features(const Mesh& mesh, const Normalization& n
     const std::uint32_t v = reps[i];
     const double len = sum[v].norm();
     const Eigen::Vector3d n = (len > 0 && std::isfinite(len)) ? Eigen::Vector3d(sum[v] / len) : best_normal[v];
-    out.points.row(static_cast<Eigen::Index>(i)) = position(v).cast<float>().transpose();
+    out.points.row(static_cast<Eigen::Index>(i)) = position(v).template cast<float>().transpose();
     out.normals.row(static_cast<Eigen::Index>(i)) = n.cast<float>().transpose();
   }
   return out;

@@ -71,7 +71,8 @@ inline constexpr double poisson_oversampling = 10.0;
 inline double unit_double(std::mt19937_64& g) { return static_cast<double>(g() >> 11) * 0x1.0p-53; }
 
 /// An integer in [0, n), n > 0, unbiased (rejection of the short top range).
-inline std::uint64_t bounded_index(std::mt19937_64& g, std::uint64_t n) {
+template <class = void>
+std::uint64_t bounded_index(std::mt19937_64& g, std::uint64_t n) {
   RESTITCH_ASSERT(n > 0, "bounded_index needs a non-empty range");
   const std::uint64_t reject_below = (0 - n) % n;  // 2^64 mod n
   for (;;) {
@@ -94,6 +95,7 @@ class PointGrid {
   static constexpr double max_cells_per_axis = 1 << 20;
 
   /// r > 0; `expected` points (a size hint).
+  template <class = void>
   PointGrid(double r, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::size_t expected)
       : r2_(r * r), cell_(2.0 * r * (1.0 + 1e-6)), lo_(lo) {
     double cells = 1;
@@ -109,6 +111,7 @@ class PointGrid {
   }
 
   /// True when no stored point q has |q - p|^2 < r^2.
+  template <class = void>
   bool far_from_all(const Eigen::Vector3d& p) const {
     std::int64_t base[3], step[3];
     for (int a = 0; a < 3; ++a) {
@@ -128,6 +131,7 @@ class PointGrid {
   }
 
   /// Stores p (no check).
+  template <class = void>
   void insert(const Eigen::Vector3d& p) {
     std::int64_t c[3];
     for (int a = 0; a < 3; ++a) c[a] = static_cast<std::int64_t>(std::floor((p[a] - lo_[a]) / cell_)) + 1;
@@ -141,18 +145,21 @@ class PointGrid {
   std::size_t size() const { return points_.size(); }
 
  private:
+  template <class = void>
   bool inside(const std::int64_t* c) const {
     return c[0] >= 0 && c[1] >= 0 && c[2] >= 0 && c[0] < dims_[0] && c[1] < dims_[1] && c[2] < dims_[2];
   }
   std::size_t dense_index(const std::int64_t* c) const {
     return static_cast<std::size_t>((c[0] * dims_[1] + c[1]) * dims_[2] + c[2]);
   }
+  template <class = void>
   std::int32_t head(const std::int64_t* c) const {
     if (!inside(c)) return -1;
     if (!dense_.empty()) return dense_[dense_index(c)];
     const std::int32_t* h = sparse_.find({c[0], c[1], c[2]});
     return h ? *h : -1;
   }
+  template <class = void>
   std::int32_t* head_slot(const std::int64_t* c) {
     if (!inside(c)) return nullptr;
     if (!dense_.empty()) return &dense_[dense_index(c)];
@@ -184,6 +191,7 @@ struct NormalizedSurface {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
 
   /// A face with probability area / total area (Walker's alias method), one engine call.
+  template <class = void>
   const Face& draw_face(std::mt19937_64& g) const {
     const std::uint64_t x = g();
     // High 32 bits pick the column, low 32 bits the coin (n < 2^32 faces).
@@ -194,7 +202,8 @@ struct NormalizedSurface {
 };
 
 /// Walker's alias table for weights w (all > 0), built in a fixed order (deterministic).
-inline void build_alias(const std::vector<double>& w, std::vector<double>& prob, std::vector<std::uint32_t>& alias) {
+template <class = void>
+void build_alias(const std::vector<double>& w, std::vector<double>& prob, std::vector<std::uint32_t>& alias) {
   const std::size_t n = w.size();
   double total = 0;
   for (double x : w) total += x;
@@ -218,7 +227,8 @@ inline void build_alias(const std::vector<double>& w, std::vector<double>& prob,
   // Leftovers (rounding) keep themselves with probability 1.
 }
 
-inline Status normalize_surface(const Mesh& mesh, const Normalization& norm, NormalizedSurface& s) {
+template <class = void>
+Status normalize_surface(const Mesh& mesh, const Normalization& norm, NormalizedSurface& s) {
   if (mesh.F.rows() == 0) return error(StatusCode::invalid_mesh, "the mesh has no triangles");
   const Eigen::Index nv = mesh.V.rows();
   if (mesh.F.maxCoeff() >= static_cast<std::uint32_t>(nv))
@@ -255,7 +265,8 @@ inline Status normalize_surface(const Mesh& mesh, const Normalization& norm, Nor
 
 /// Checks that a PointGrid of radius `spacing` over [lo, hi] stays within
 /// its cell index range (the box is at most 2^20 cells of 2 spacing wide).
-inline Status check_grid_range(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double spacing) {
+template <class = void>
+Status check_grid_range(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double spacing) {
   const double extent = (hi - lo).maxCoeff();
   if (!(extent / (2.0 * spacing) < PointGrid::max_cells_per_axis))
     return error(StatusCode::too_large, "the spacing " + std::to_string(spacing) + " is too small for a model " +
@@ -267,7 +278,8 @@ inline Status check_grid_range(const Eigen::Vector3d& lo, const Eigen::Vector3d&
 
 /// Poisson-disk sample of the mesh surface in normalized units (see the top
 /// of this header for the contract and cost).
-inline Result<PointSet> poisson_disk_sample(const Mesh& mesh, const Normalization& norm, double spacing,
+template <class = void>
+Result<PointSet> poisson_disk_sample(const Mesh& mesh, const Normalization& norm, double spacing,
                                             std::uint64_t seed, const Progress& progress = {}) {
   if (!(spacing > 0) || !std::isfinite(spacing))
     return error(StatusCode::invalid_argument, "the sampling spacing must be a positive finite number");

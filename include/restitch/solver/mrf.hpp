@@ -81,6 +81,7 @@ struct is_labelling_problem<
 /// terms next to 0.01 ones stays exact to a few ulps of the result.
 struct CompensatedSum {
   double sum = 0, carry = 0;
+  template <class = void>
   void add(double x) {
     const double t = sum + x;
     carry += std::fabs(sum) >= std::fabs(x) ? (sum - t) + x : (x - t) + sum;
@@ -123,16 +124,19 @@ class TableMrf {
   double unary(int node, int label) const { return unary_[unary_index(node, label)]; }
   void set_unary(int node, int label, double value) { unary_[unary_index(node, label)] = value; }
 
+  template <class = void>
   std::pair<int, int> edge(int e) const {
     RESTITCH_ASSERT(e >= 0 && e < edge_count(), "TableMrf::edge: edge id out of range");
     return edges_[static_cast<std::size_t>(e)];
   }
   double pairwise(int e, int label_i, int label_j) const { return pairwise_[pairwise_index(e, label_i, label_j)]; }
+  template <class = void>
   void set_pairwise(int e, int label_i, int label_j, double value) {
     pairwise_[pairwise_index(e, label_i, label_j)] = value;
   }
 
   /// Adds the edge (i, j), i != j, with an all-zero table; returns its id.
+  template <class = void>
   int add_edge(int i, int j) {
     RESTITCH_ASSERT(i >= 0 && i < nodes_ && j >= 0 && j < nodes_, "TableMrf::add_edge: node id out of range");
     RESTITCH_ASSERT(i != j, "TableMrf::add_edge: an edge needs two different nodes");
@@ -141,6 +145,7 @@ class TableMrf {
     return edge_count() - 1;
   }
   /// Adds the edge (i, j) with `table` (M*M values, row-major, row = label of i).
+  template <class = void>
   int add_edge(int i, int j, const std::vector<double>& table) {
     RESTITCH_ASSERT(table.size() == table_size(), "TableMrf::add_edge: the table must hold M*M values");
     const int e = add_edge(i, j);
@@ -154,11 +159,13 @@ class TableMrf {
 
  private:
   std::size_t table_size() const { return static_cast<std::size_t>(labels_) * static_cast<std::size_t>(labels_); }
+  template <class = void>
   std::size_t unary_index(int node, int label) const {
     RESTITCH_ASSERT(node >= 0 && node < nodes_ && label >= 0 && label < labels_,
                     "TableMrf::unary: node or label out of range");
     return static_cast<std::size_t>(node) * static_cast<std::size_t>(labels_) + static_cast<std::size_t>(label);
   }
+  template <class = void>
   std::size_t pairwise_index(int e, int label_i, int label_j) const {
     RESTITCH_ASSERT(
         e >= 0 && e < edge_count() && label_i >= 0 && label_i < labels_ && label_j >= 0 && label_j < labels_,

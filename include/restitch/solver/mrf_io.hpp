@@ -50,6 +50,7 @@ class MrfLines {
   MrfLines(std::string_view text, std::string path) : text_(text), path_(std::move(path)) {}
 
   /// The next line with content; false at the end of the file.
+  template <class = void>
   bool next(std::string_view& line) {
     while (pos_ < text_.size()) {
       std::size_t end = text_.find('\n', pos_);
@@ -80,7 +81,8 @@ class MrfLines {
 };
 
 /// Splits a line into tokens separated by spaces or tabs.
-inline void split_tokens(std::string_view line, std::vector<std::string_view>& out) {
+template <class = void>
+void split_tokens(std::string_view line, std::vector<std::string_view>& out) {
   out.clear();
   std::size_t i = 0;
   while (i < line.size()) {
@@ -92,7 +94,8 @@ inline void split_tokens(std::string_view line, std::vector<std::string_view>& o
 }
 
 /// A finite double from a token; false when it is not one.
-inline bool parse_double(std::string_view token, double& value) {
+template <class = void>
+bool parse_double(std::string_view token, double& value) {
   char buf[64];
   if (token.empty() || token.size() >= sizeof buf) return false;
   token.copy(buf, token.size());
@@ -103,7 +106,8 @@ inline bool parse_double(std::string_view token, double& value) {
 }
 
 /// A non-negative decimal integer up to `max` from a token.
-inline bool parse_count(std::string_view token, long long max, long long& value) {
+template <class = void>
+bool parse_count(std::string_view token, long long max, long long& value) {
   if (token.empty() || token.size() > 18) return false;
   value = 0;
   for (char c : token) {
@@ -113,14 +117,16 @@ inline bool parse_count(std::string_view token, long long max, long long& value)
   return value <= max;
 }
 
-inline std::string quoted(std::string_view token) {
+template <class = void>
+std::string quoted(std::string_view token) {
   std::string s(token.substr(0, 40));
   if (token.size() > 40) s += "...";
   return "'" + s + "'";
 }
 
 /// Reads one line of exactly `count` numbers into out[0..count).
-inline Status read_row(MrfLines& lines, std::vector<std::string_view>& tokens, int count, double* out,
+template <class = void>
+Status read_row(MrfLines& lines, std::vector<std::string_view>& tokens, int count, double* out,
                        const std::string& what) {
   std::string_view line;
   if (!lines.next(line))
@@ -200,7 +206,8 @@ Status write_mrf(const std::string& path, const P& problem) {
 /// joining a node to itself, missing or extra lines), unsupported (a newer
 /// format version), too_large (sizes past the limits above).
 /// parse_mrf reads the same from bytes held in memory; `path` only names them in messages.
-inline Result<TableMrf> parse_mrf(std::string_view text, const std::string& path) {
+template <class = void>
+Result<TableMrf> parse_mrf(std::string_view text, const std::string& path) {
   return detail::guarded("parse_mrf", [&]() -> Result<TableMrf> {
     detail::MrfLines lines(text, path);
     std::vector<std::string_view> tok;
@@ -274,7 +281,8 @@ inline Result<TableMrf> parse_mrf(std::string_view text, const std::string& path
 }
 
 /// Reads a problem file (parse_mrf on its bytes); io_error when it cannot be read.
-inline Result<TableMrf> read_mrf(const std::string& path) {
+template <class = void>
+Result<TableMrf> read_mrf(const std::string& path) {
   return detail::guarded("read_mrf", [&]() -> Result<TableMrf> {
     std::vector<std::uint8_t> bytes;
     RESTITCH_TRY(detail::read_file(path, bytes));

@@ -169,6 +169,7 @@ class ClipStitcher {
 
   /// Builds the labelling-independent cache. Validates the mesh and lattice.
   /// Cost O(#V + bucketed triangle-cells).
+  template <class = void>
   Status prepare(const Mesh& in, const Lattice& lattice, cache_type& cache) const {
     return detail::guarded("ClipStitcher::prepare", [&]() -> Status {
       cache = cache_type();
@@ -194,6 +195,7 @@ class ClipStitcher {
   }
 
   /// Stitches one labelling with a prepared cache. See the file comment.
+  template <class = void>
   Status stitch(const cache_type& cache, const Eigen::Array3i& out_cells,
                 const std::vector<Eigen::Array3i>& cell_shift, Mesh& out, StitchReport& report) const {
     return detail::guarded("ClipStitcher::stitch", [&]() -> Status {
@@ -218,6 +220,7 @@ class ClipStitcher {
   }
 
   /// Prepares and stitches in one call (the policy contract). `report.ms` includes the preparation.
+  template <class = void>
   Status stitch(const Mesh& in, const Lattice& lattice, const Eigen::Array3i& out_cells,
                 const std::vector<Eigen::Array3i>& cell_shift, Mesh& out, StitchReport& report) const {
     return detail::guarded("ClipStitcher::stitch", [&]() -> Status {
@@ -235,6 +238,7 @@ class ClipStitcher {
  private:
   // One stitch of a checked labelling: regions, then each region's source
   // triangles in face order (copied or clipped), then welding and assembly.
+  template <class = void>
   void run(const cache_type& cache, const CellGrid& out_grid, const std::vector<Eigen::Array3i>& cell_shift,
            Mesh& out, StitchReport& report) const {
     const Mesh& in = *cache.mesh();
@@ -285,6 +289,7 @@ class ClipStitcher {
   }
 
   // The triangles of a region's source cells, once each, in ascending face order.
+  template <class = void>
   static void gather_triangles(const cache_type& cache, const CellGrid& out_grid,
                                const detail::StitchRegions& regions, const detail::Region& region,
                                std::vector<std::int32_t>& stamp, std::vector<std::uint32_t>& gathered) {

@@ -35,7 +35,8 @@ inline Status gltf_error(StatusCode code, const std::string& where, const std::s
 }
 
 // The MIME type of encoded image bytes by their magic ("" if unknown).
-inline std::string sniff_mime(const std::vector<unsigned char>& b) {
+template <class = void>
+std::string sniff_mime(const std::vector<unsigned char>& b) {
   auto starts = [&](const char* magic, std::size_t n, std::size_t at = 0) {
     return b.size() >= at + n && std::memcmp(b.data() + at, magic, n) == 0;
   };
@@ -55,7 +56,8 @@ T load_unaligned(const unsigned char* p) {
 }
 
 // One component at `p` as a double; normalized integers per the glTF spec.
-inline double decode_component(const unsigned char* p, int comp_type, bool normalized) {
+template <class = void>
+double decode_component(const unsigned char* p, int comp_type, bool normalized) {
   switch (comp_type) {
     case TINYGLTF_COMPONENT_TYPE_FLOAT: return load_unaligned<float>(p);
     case TINYGLTF_COMPONENT_TYPE_DOUBLE: return load_unaligned<double>(p);
@@ -84,7 +86,8 @@ inline double decode_component(const unsigned char* p, int comp_type, bool norma
 // Locates `n` elements of `elem` bytes in bufferView `bv` at `offset` with
 // `stride`: `base` points at the first one (nullptr when n == 0). `here`
 // names the accessor in messages.
-inline Status locate_elements(const tinygltf::Model& m, const std::string& here, int bv, std::size_t offset,
+template <class = void>
+Status locate_elements(const tinygltf::Model& m, const std::string& here, int bv, std::size_t offset,
                               std::size_t stride, std::size_t elem, std::size_t n, const unsigned char*& base) {
   if (bv < 0 || bv >= int(m.bufferViews.size()))
     return gltf_error(StatusCode::parse_error, here,
@@ -110,7 +113,8 @@ inline Status locate_elements(const tinygltf::Model& m, const std::string& here,
 }
 
 // Applies accessor `a`'s sparse block over `out` (count x components values).
-inline Status apply_sparse(const tinygltf::Model& m, const tinygltf::Accessor& a, const std::string& here,
+template <class = void>
+Status apply_sparse(const tinygltf::Model& m, const tinygltf::Accessor& a, const std::string& here,
                            int components, std::vector<double>& out) {
   const std::size_t count = a.count;
   const int csize = tinygltf::GetComponentSizeInBytes(a.componentType);
@@ -136,7 +140,8 @@ inline Status apply_sparse(const tinygltf::Model& m, const tinygltf::Accessor& a
 // Reads accessor `index` as doubles (count by components), normalized
 // integers mapped to [0,1] / [-1,1] per the glTF spec, sparse values applied.
 // `where` names the reader of the accessor in messages.
-inline Status read_accessor(const tinygltf::Model& m, int index, std::vector<double>& out, int& components,
+template <class = void>
+Status read_accessor(const tinygltf::Model& m, int index, std::vector<double>& out, int& components,
                             const std::string& where) {
   if (index < 0 || index >= int(m.accessors.size()))
     return gltf_error(

@@ -49,7 +49,8 @@ inline void add_warning(std::vector<std::string>& warnings, std::string w) {
 }
 
 // Extensions restitch decodes or passes through untouched with the materials.
-inline bool extension_is_carried(const std::string& e) {
+template <class = void>
+bool extension_is_carried(const std::string& e) {
   static const char* known[] = {"KHR_materials_",
                                 "KHR_texture_transform",
                                 "KHR_texture_basisu",
@@ -64,7 +65,8 @@ inline bool extension_is_carried(const std::string& e) {
 
 // File-level checks: a required extension restitch cannot decode is an error;
 // extensions not carried, animations, skins and cameras are warnings.
-inline Status check_model(const tinygltf::Model& model, std::vector<std::string>& warnings) {
+template <class = void>
+Status check_model(const tinygltf::Model& model, std::vector<std::string>& warnings) {
   for (const std::string& e : model.extensionsRequired)
     if (!extension_is_carried(e))
       return error(StatusCode::unsupported, "the file requires the extension " + e +
@@ -79,7 +81,8 @@ inline Status check_model(const tinygltf::Model& model, std::vector<std::string>
   return {};
 }
 
-inline const char* mode_name(int mode) {
+template <class = void>
+const char* mode_name(int mode) {
   switch (mode) {
     case TINYGLTF_MODE_POINTS:
       return "POINTS";
@@ -94,7 +97,8 @@ inline const char* mode_name(int mode) {
 }
 
 // Turns a primitive's index list (or implicit 0..n-1) into triangles per its mode.
-inline void triangulate(int mode, const std::vector<std::uint32_t>& idx, std::vector<std::uint32_t>& tris) {
+template <class = void>
+void triangulate(int mode, const std::vector<std::uint32_t>& idx, std::vector<std::uint32_t>& tris) {
   const std::size_t n = idx.size();
   // Triangles are kept as the file has them, degenerate ones included (they
   // carry no surface, and dropping them would change the file's counts);
@@ -135,7 +139,8 @@ struct DecodedPrimitive {
 using DecodedMesh = std::vector<DecodedPrimitive>;
 
 // Reads POSITION (VEC3, finite coordinates).
-inline Status read_positions(const tinygltf::Model& model, int accessor, const std::string& where,
+template <class = void>
+Status read_positions(const tinygltf::Model& model, int accessor, const std::string& where,
                              std::vector<double>& pos) {
   int comps = 0;
   RESTITCH_TRY(read_accessor(model, accessor, pos, comps, where + " POSITION"));
@@ -148,7 +153,8 @@ inline Status read_positions(const tinygltf::Model& model, int accessor, const s
 }
 
 // Reads vertex attribute `name` (one value set per vertex, all finite).
-inline Status read_vertex_attribute(const tinygltf::Model& model, int accessor, const std::string& where,
+template <class = void>
+Status read_vertex_attribute(const tinygltf::Model& model, int accessor, const std::string& where,
                                     const std::string& name, std::size_t nv, std::vector<double>& values, int& comps) {
   // Before reading: a count the positions do not have is refused without decoding (or allocating) it.
   if (accessor >= 0 && accessor < int(model.accessors.size()) && model.accessors[std::size_t(accessor)].count != nv)
@@ -163,7 +169,8 @@ inline Status read_vertex_attribute(const tinygltf::Model& model, int accessor, 
 
 // Keeps attribute `name` (already read as `values`, `comps` per vertex) in
 // `d` and `attrs` if restitch carries it, else warns that it is dropped.
-inline Status keep_attribute(const std::string& name, std::vector<double>& values, int comps, const std::string& where,
+template <class = void>
+Status keep_attribute(const std::string& name, std::vector<double>& values, int comps, const std::string& where,
                              PrimitiveData& d, AttributeSet& attrs, std::vector<std::string>& warnings) {
   if (name == "NORMAL") {
     if (comps != 3) return gltf_error(StatusCode::parse_error, where, "NORMAL is not VEC3");
@@ -192,7 +199,8 @@ inline Status keep_attribute(const std::string& name, std::vector<double>& value
 }
 
 // Reads every attribute but POSITION, in the file's (name) order.
-inline Status read_attributes(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::string& where,
+template <class = void>
+Status read_attributes(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::string& where,
                               std::size_t nv, PrimitiveData& d, AttributeSet& attrs,
                               std::vector<std::string>& warnings) {
   for (const auto& kv : prim.attributes) {
@@ -221,7 +229,8 @@ inline Status read_attributes(const tinygltf::Model& model, const tinygltf::Prim
 }
 
 // The primitive's vertex indices (unsigned integers below `nv`), or 0..nv-1.
-inline Status read_indices(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::string& where,
+template <class = void>
+Status read_indices(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::string& where,
                            std::size_t nv, std::vector<std::uint32_t>& idx) {
   if (prim.indices < 0) {
     idx.resize(nv);
@@ -254,7 +263,8 @@ inline std::size_t accessor_count(const tinygltf::Model& model, int index) {
 }
 
 // too_large: `n` `what` ("vertices" or "triangles") past the limit GltfLimits::max_<what>.
-inline Status over_limit(const std::string& where, std::uint64_t n, const std::string& what, std::size_t limit) {
+template <class = void>
+Status over_limit(const std::string& where, std::uint64_t n, const std::string& what, std::size_t limit) {
   return gltf_error(StatusCode::too_large, where,
                     "has " + std::to_string(n) + " " + what + ", more than the limit of " + std::to_string(limit) +
                         " (GltfLimits::max_" + what + "; --max-" + what + " on the command line)");
@@ -262,7 +272,8 @@ inline Status over_limit(const std::string& where, std::uint64_t n, const std::s
 
 // Decodes primitive `pi` of mesh `mi`; appends it to `out` unless it is
 // dropped (with a warning). Counts past `limits` are refused before their data is read.
-inline Status decode_primitive(const tinygltf::Model& model, int mi, std::size_t pi, DecodedMesh& out,
+template <class = void>
+Status decode_primitive(const tinygltf::Model& model, int mi, std::size_t pi, DecodedMesh& out,
                                std::vector<std::string>& warnings, const GltfLimits& limits) {
   const tinygltf::Mesh& gm = model.meshes[mi];
   const tinygltf::Primitive& prim = gm.primitives[pi];
@@ -309,7 +320,8 @@ inline Status decode_primitive(const tinygltf::Model& model, int mi, std::size_t
 }
 
 // Decodes every primitive of mesh `mi` (a valid index), in file order.
-inline Status decode_mesh(const tinygltf::Model& model, int mi, DecodedMesh& out, std::vector<std::string>& warnings,
+template <class = void>
+Status decode_mesh(const tinygltf::Model& model, int mi, DecodedMesh& out, std::vector<std::string>& warnings,
                           const GltfLimits& limits) {
   out.clear();
   for (std::size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi)
@@ -330,7 +342,8 @@ struct InstanceTransform {
 // the vertices already there. The arithmetic (doubles, Eigen's fixed-size
 // products, normalize when the norm is positive) is that of a reader that
 // decodes per instance: the output is the same to the bit.
-inline void place_primitive(const PrimitiveData& d, const InstanceTransform& xf, PrimitiveData& gd) {
+template <class = void>
+void place_primitive(const PrimitiveData& d, const InstanceTransform& xf, PrimitiveData& gd) {
   const std::size_t nv = d.pos.size() / 3;
   const std::uint32_t base = std::uint32_t(gd.pos.size() / 3);
   for (std::size_t i = 0; i < nv; ++i) {
@@ -361,7 +374,8 @@ inline void place_primitive(const PrimitiveData& d, const InstanceTransform& xf,
 }
 
 // Plain material descriptions (for reports and for writers without the assets).
-inline std::vector<Material> plain_materials(const tinygltf::Model& model) {
+template <class = void>
+std::vector<Material> plain_materials(const tinygltf::Model& model) {
   std::vector<Material> out;
   for (const tinygltf::Material& gm : model.materials) {
     Material mat;
@@ -379,7 +393,8 @@ inline std::vector<Material> plain_materials(const tinygltf::Model& model) {
 // The file's materials, textures, images (bytes kept), samplers, asset
 // info and the carried extensions other than KHR_mesh_quantization (the
 // geometry is written back as floats).
-inline std::shared_ptr<GltfAssets> pass_through_assets(const tinygltf::Model& model) {
+template <class = void>
+std::shared_ptr<GltfAssets> pass_through_assets(const tinygltf::Model& model) {
   auto assets = std::make_shared<GltfAssets>();
   assets->model.materials = model.materials;
   assets->model.textures = model.textures;

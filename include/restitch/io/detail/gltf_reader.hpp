@@ -40,7 +40,8 @@
 namespace restitch::detail {
 
 // Image bytes are kept as they are: resizing never touches textures.
-inline bool keep_image_bytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+template <class = void>
+bool keep_image_bytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
                              const unsigned char* bytes, int size, void*) {
   image->image.assign(bytes, bytes + size);
   image->as_is = true;
@@ -53,7 +54,8 @@ inline bool has_glb_magic(const std::uint8_t* data, std::size_t size) {
   return size >= 4 && std::memcmp(data, "glTF", 4) == 0;
 }
 
-inline Status parse_model(const std::uint8_t* data, std::size_t size, const std::string& base_dir, bool binary,
+template <class = void>
+Status parse_model(const std::uint8_t* data, std::size_t size, const std::string& base_dir, bool binary,
                           tinygltf::Model& model, GltfLoadReport& report) {
   if (size == 0) return error(StatusCode::parse_error, "the file is empty");
   tinygltf::TinyGLTF loader;
@@ -99,6 +101,7 @@ struct PrimitiveGroups {
   std::vector<std::string> names;  // the `where` of every primitive instance, comma-separated
 
   // The data of the group for `p`'s key (a new group if none has it yet).
+  template <class = void>
   PrimitiveData& group_for(const DecodedPrimitive& p) {
     std::size_t g = 0;
     while (g < keys.size() && !(keys[g].first == p.material && keys[g].second == p.attributes)) ++g;
@@ -122,7 +125,8 @@ struct DecodedMeshes {
 // Places every primitive of `inst`'s mesh in world space into `groups`,
 // decoding the mesh first if no earlier instance did. A singular transform
 // drops the instance with a warning (and decodes nothing).
-inline Status place_instance(const tinygltf::Model& model, const MeshInstance& inst, DecodedMeshes& decoded,
+template <class = void>
+Status place_instance(const tinygltf::Model& model, const MeshInstance& inst, DecodedMeshes& decoded,
                              PrimitiveGroups& groups, GltfLoadReport& report, const GltfLimits& limits) {
   InstanceTransform xf;
   xf.world = inst.world;
@@ -156,7 +160,8 @@ inline Status place_instance(const tinygltf::Model& model, const MeshInstance& i
 
 // Flattens the groups into `mesh` (replacing it): vertices and faces group
 // after group, channels sized for all vertices when any group has them.
-inline Status flatten_groups(const PrimitiveGroups& groups, Mesh& mesh) {
+template <class = void>
+Status flatten_groups(const PrimitiveGroups& groups, Mesh& mesh) {
   std::size_t nv = 0, nf = 0;
   bool any_n = false, any_t = false, any_c = false;
   int max_uv = 0;
@@ -208,7 +213,8 @@ inline Status flatten_groups(const PrimitiveGroups& groups, Mesh& mesh) {
 }
 
 // The parsed model as one world-space Mesh (see the header comment).
-inline Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadReport& report, const GltfLimits& limits) {
+template <class = void>
+Status build_mesh(const tinygltf::Model& model, Mesh& mesh, GltfLoadReport& report, const GltfLimits& limits) {
   RESTITCH_TRY(check_model(model, report.warnings));
   report.meshes = model.meshes.size();
   report.nodes = model.nodes.size();

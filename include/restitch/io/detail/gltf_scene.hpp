@@ -29,7 +29,8 @@
 namespace restitch::detail {
 
 // A node's local matrix: its `matrix`, else T * R * S.
-inline Eigen::Matrix4d node_local_matrix(const tinygltf::Node& n) {
+template <class = void>
+Eigen::Matrix4d node_local_matrix(const tinygltf::Node& n) {
   Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
   if (n.matrix.size() == 16) {
     for (int c = 0; c < 4; ++c)
@@ -57,7 +58,8 @@ struct MeshInstance {
 
 // Appends the default scene's mesh instances, in depth-first order, to
 // `instances`; on error, those found before it stay there.
-inline Status walk_scene(const tinygltf::Model& model, std::vector<MeshInstance>& instances) {
+template <class = void>
+Status walk_scene(const tinygltf::Model& model, std::vector<MeshInstance>& instances) {
   if (model.scenes.empty()) return error(StatusCode::invalid_mesh, "the file has no scene, so nothing to resize");
   const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
   if (scene >= int(model.scenes.size()))

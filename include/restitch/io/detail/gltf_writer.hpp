@@ -41,7 +41,8 @@ inline void align4(std::vector<unsigned char>& buf) {
 }
 
 // Appends a bufferView + accessor holding `values` (count x comps floats).
-inline int add_float_accessor(tinygltf::Model& m, const std::vector<float>& values, int comps, int type, bool minmax) {
+template <class = void>
+int add_float_accessor(tinygltf::Model& m, const std::vector<float>& values, int comps, int type, bool minmax) {
   std::vector<unsigned char>& buf = m.buffers[0].data;
   align4(buf);
   tinygltf::BufferView view;
@@ -72,7 +73,8 @@ inline int add_float_accessor(tinygltf::Model& m, const std::vector<float>& valu
 
 // Appends a bufferView + accessor holding `idx`: uint16 when the primitive
 // has at most 65535 vertices, else uint32.
-inline int add_index_accessor(tinygltf::Model& m, const std::vector<std::uint32_t>& idx, std::size_t vertex_count) {
+template <class = void>
+int add_index_accessor(tinygltf::Model& m, const std::vector<std::uint32_t>& idx, std::size_t vertex_count) {
   std::vector<unsigned char>& buf = m.buffers[0].data;
   align4(buf);
   tinygltf::BufferView view;
@@ -101,7 +103,8 @@ inline int add_index_accessor(tinygltf::Model& m, const std::vector<std::uint32_
 }
 
 // Copies the pass-through assets into `m`, each image's bytes into its own bufferView.
-inline Status add_assets(const GltfAssets& assets, tinygltf::Model& m) {
+template <class = void>
+Status add_assets(const GltfAssets& assets, tinygltf::Model& m) {
   const tinygltf::Model& a = assets.model;
   m.asset.copyright = a.asset.copyright;
   m.materials = a.materials;
@@ -134,7 +137,8 @@ inline Status add_assets(const GltfAssets& assets, tinygltf::Model& m) {
 }
 
 // Writes the mesh's plain materials (when there are no assets).
-inline void add_plain_materials(const Mesh& mesh, tinygltf::Model& m) {
+template <class = void>
+void add_plain_materials(const Mesh& mesh, tinygltf::Model& m) {
   for (const Material& mat : mesh.materials) {
     tinygltf::Material gm;
     gm.name = mat.name;
@@ -150,7 +154,8 @@ inline void add_plain_materials(const Mesh& mesh, tinygltf::Model& m) {
 // The primitive of group `g` (faces `faces`, in face order): its vertices
 // compacted in first-use order, with the group's attributes. `remap` is
 // all -1 on entry and on return.
-inline tinygltf::Primitive group_primitive(const Mesh& mesh, std::size_t g, const std::vector<std::uint32_t>& faces,
+template <class = void>
+tinygltf::Primitive group_primitive(const Mesh& mesh, std::size_t g, const std::vector<std::uint32_t>& faces,
                                            std::vector<std::int64_t>& remap, tinygltf::Model& m) {
   const AttributeSet& a = mesh.groups[g].attributes;
   std::vector<std::uint32_t> used, idx;
@@ -191,7 +196,8 @@ inline tinygltf::Primitive group_primitive(const Mesh& mesh, std::size_t g, cons
 }
 
 // The mesh as a fresh model (see the header comment).
-inline Status build_model(const Mesh& mesh, tinygltf::Model& m) {
+template <class = void>
+Status build_model(const Mesh& mesh, tinygltf::Model& m) {
   RESTITCH_TRY(validate(mesh));
   m = tinygltf::Model();
   m.asset.version = "2.0";
@@ -224,7 +230,8 @@ inline Status build_model(const Mesh& mesh, tinygltf::Model& m) {
 }
 
 // The model as bytes: binary .glb, or pretty-printed JSON with the buffer as a data URI.
-inline Status serialize(const tinygltf::Model& m, bool binary, std::vector<std::uint8_t>& out) {
+template <class = void>
+Status serialize(const tinygltf::Model& m, bool binary, std::vector<std::uint8_t>& out) {
   std::ostringstream os;
   tinygltf::TinyGLTF writer;
   if (!writer.WriteGltfSceneToStream(&m, os, /*prettyPrint=*/!binary, binary))

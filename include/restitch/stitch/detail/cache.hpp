@@ -57,8 +57,11 @@ class ClipStitchCache {
 
  private:
   friend class ClipStitcher;
+  template <class = void>
   Status build(const Mesh& in, const Lattice& lattice, double tol, std::uint64_t max_bucket_entries);
+  template <class = void>
   void canonical_coordinates(const Eigen::Matrix3d& a_inv);
+  template <class = void>
   Status bucket_triangles(std::uint64_t max_bucket_entries);
 
   const Mesh* mesh_ = nullptr;
@@ -74,7 +77,8 @@ class ClipStitchCache {
 };
 
 /// Fills the cache for a validated mesh and lattice; `tol` in model units.
-inline Status ClipStitchCache::build(const Mesh& in, const Lattice& lattice, double tol,
+template <class>
+Status ClipStitchCache::build(const Mesh& in, const Lattice& lattice, double tol,
                                      std::uint64_t max_bucket_entries) {
   mesh_ = &in;  // read by the helpers below; reset on failure
   lattice_ = lattice;
@@ -87,7 +91,8 @@ inline Status ClipStitchCache::build(const Mesh& in, const Lattice& lattice, dou
 }
 
 // Canonical coordinates, snapped onto planes within the tolerance.
-inline void ClipStitchCache::canonical_coordinates(const Eigen::Matrix3d& a_inv) {
+template <class>
+void ClipStitchCache::canonical_coordinates(const Eigen::Matrix3d& a_inv) {
   const Mesh& in = *mesh_;
   const std::size_t nv = in.vertex_count();
   std::array<double, 3> snap;
@@ -110,7 +115,8 @@ inline void ClipStitchCache::canonical_coordinates(const Eigen::Matrix3d& a_inv)
 }
 
 // Cell range and overhang flags of every triangle, then buckets (CSR).
-inline Status ClipStitchCache::bucket_triangles(std::uint64_t max_bucket_entries) {
+template <class>
+Status ClipStitchCache::bucket_triangles(std::uint64_t max_bucket_entries) {
   const Mesh& in = *mesh_;
   const std::size_t nf = in.triangle_count();
   const CellGrid grid(lattice_.cells);

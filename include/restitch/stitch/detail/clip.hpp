@@ -18,7 +18,8 @@
 namespace restitch::detail {
 
 /// Cell index of a canonical interval [m, M] along an axis with n cells (half-open cells, clamped ends).
-inline void cell_range(double m, double M, int n, std::int32_t& lo, std::int32_t& hi) {
+template <class = void>
+void cell_range(double m, double M, int n, std::int32_t& lo, std::int32_t& hi) {
   const double top = double(n - 1);
   double l = std::floor(m), h = (M > m) ? std::ceil(M) - 1.0 : l;
   l = std::min(std::max(l, 0.0), top);
@@ -35,12 +36,14 @@ struct ClipPolygon {
   std::vector<std::int64_t> src;
   int n = 0;
   void clear() { n = 0; }
+  template <class = void>
   void reserve_for(int count, int stride) {
     if (int(src.size()) < count) {
       src.resize(std::size_t(count));
       d.resize(std::size_t(count) * std::size_t(stride));
     }
   }
+  template <class = void>
   void push(const double* v, std::int64_t s, int stride) {
     reserve_for(n + 1, stride);
     std::copy(v, v + stride, d.data() + std::size_t(n) * std::size_t(stride));
@@ -56,7 +59,8 @@ struct ClipPolygon {
 /// on the plane go to both and edges crossing it strictly are cut. The cut
 /// point is interpolated from the edge's lower end, so the two triangles
 /// sharing an edge compute the same bits.
-inline void split_polygon(const ClipPolygon& in, int axis, double k, int stride, ClipPolygon& low, ClipPolygon& high) {
+template <class = void>
+void split_polygon(const ClipPolygon& in, int axis, double k, int stride, ClipPolygon& low, ClipPolygon& high) {
   low.clear();
   high.clear();
   bool all_ge = true, all_le = true;

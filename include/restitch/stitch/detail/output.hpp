@@ -29,6 +29,7 @@ struct VertexLayout {
   bool has_n = false, has_t = false, has_c = false;
   int cut_stride = 3, cut_n = 0, cut_t = 0, cut_uv = 0, cut_c = 0;  // offsets unused when a channel is absent
 
+  template <class = void>
   explicit VertexLayout(const Mesh& in) {
     has_n = in.N.rows() > 0;
     has_t = in.T.rows() > 0;
@@ -47,6 +48,7 @@ struct VertexLayout {
   }
 
   /// Clip vertex of input vertex v: canonical xyz, model xyz, channels.
+  template <class = void>
   void load(const Mesh& in, const ClipStitchCache& cache, std::uint32_t v, double* x) const {
     const double* c = cache.canonical(v);
     for (int a = 0; a < 3; ++a) x[a] = c[a];
@@ -67,9 +69,11 @@ class StitchOutput {
  public:
   static constexpr std::uint32_t cut_bit = 0x80000000u;
 
+  template <class = void>
   StitchOutput(const Mesh& in, const VertexLayout& layout, const std::vector<Eigen::Vector3d>& region_translation)
       : in_(in), L_(layout), region_t_(region_translation), vstamp_(in.vertex_count(), -1), vmap_(in.vertex_count(), 0) {}
 
+  template <class = void>
   void reserve(std::size_t faces, std::size_t vertices) {
     faces_.reserve(3 * faces);
     fgroup_.reserve(faces);
@@ -79,6 +83,7 @@ class StitchOutput {
   }
 
   /// Input vertex v copied by `region` (one output vertex per region and input vertex).
+  template <class = void>
   std::uint32_t copy_vertex(std::uint32_t v, std::uint32_t group, std::int32_t region) {
     if (vstamp_[v] == region) return vmap_[v];
     const std::uint32_t id = std::uint32_t(vsrc_.size());
@@ -89,6 +94,7 @@ class StitchOutput {
   }
 
   /// A cut point x (a clip vertex) made by `region`, translated by its A d.
+  template <class = void>
   std::uint32_t cut_vertex(const double* x, std::uint32_t group, std::int32_t region) {
     const std::uint32_t id = std::uint32_t(vsrc_.size());
     push(std::uint32_t(cut_.size() / std::size_t(L_.cut_stride)) | cut_bit, group, region);
@@ -105,6 +111,7 @@ class StitchOutput {
     return id;
   }
 
+  template <class = void>
   void add_face(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t group) {
     faces_.push_back(a);
     faces_.push_back(b);
@@ -117,6 +124,7 @@ class StitchOutput {
   /// attributes are interpolated with the clipping rules (normals and tangent
   /// xyz re-normalised, tangent w the sign of the interpolated w, UVs and
   /// colours linear). It takes a's group and region.
+  template <class = void>
   std::uint32_t interpolated_vertex(std::uint32_t a, std::uint32_t b, double t, const float* p) {
     double x[4 + 4 + 2 * max_uv_sets + 4];  // channels first, as doubles: the cut store may grow below
     int n = 0;
@@ -152,6 +160,7 @@ class StitchOutput {
   const std::uint32_t* face(std::size_t f) const { return &faces_[3 * f]; }
   std::uint32_t face_group(std::size_t f) const { return fgroup_[f]; }
   /// Replaces every face (the T-junction repair's rebuilt list, same layout).
+  template <class = void>
   void replace_faces(std::vector<std::uint32_t>&& faces, std::vector<std::uint32_t>&& groups) {
     faces_ = std::move(faces);
     fgroup_ = std::move(groups);
@@ -164,6 +173,7 @@ class StitchOutput {
   bool is_cut(std::uint32_t i) const { return (vsrc_[i] & cut_bit) != 0; }
   /// The input vertex an uncut output vertex copies.
   std::uint32_t source(std::uint32_t i) const { return vsrc_[i]; }
+  template <class = void>
   void position(std::uint32_t i, float* p) const {
     if (i < at_.size()) i = at_[i];  // snapped onto another vertex's position (snap_positions)
     if (is_cut(i)) {
@@ -173,21 +183,26 @@ class StitchOutput {
     const Eigen::Vector3d& t = region_t_[std::size_t(vregion_[i])];
     for (int a = 0; a < 3; ++a) p[a] = float(double(in_.V(Eigen::Index(vsrc_[i]), a)) + t(a));
   }
+  template <class = void>
   const float* normal(std::uint32_t i) const {
     return is_cut(i) ? cut_data(i) + L_.cut_n : in_.N.data() + 3 * std::size_t(vsrc_[i]);
   }
+  template <class = void>
   const float* tangent(std::uint32_t i) const {
     return is_cut(i) ? cut_data(i) + L_.cut_t : in_.T.data() + 4 * std::size_t(vsrc_[i]);
   }
+  template <class = void>
   const float* texcoord(std::uint32_t i, int set) const {
     return is_cut(i) ? cut_data(i) + L_.cut_uv + 2 * set
                      : in_.UV[std::size_t(set)].data() + 2 * std::size_t(vsrc_[i]);
   }
+  template <class = void>
   const float* color(std::uint32_t i) const {
     return is_cut(i) ? cut_data(i) + L_.cut_c : in_.C.data() + 4 * std::size_t(vsrc_[i]);
   }
 
   /// Writes the mesh: every vertex i replaced by rep_of[i] (the weld map).
+  template <class = void>
   void assemble(const std::vector<std::uint32_t>& rep_of, Mesh& out) {
     const std::vector<std::uint32_t> order = kept_faces_by_group(rep_of);
     // Vertices: numbered by first use.
@@ -218,21 +233,25 @@ class StitchOutput {
   }
 
  private:
+  template <class = void>
   void push(std::uint32_t src, std::uint32_t group, std::int32_t region) {
     vsrc_.push_back(src);
     vregion_.push_back(region);
     vgroup_.push_back(group);
   }
+  template <class = void>
   void push_unit(const double* v) {  // xyz re-normalised
     const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     const double s = len > 0 ? 1.0 / len : 1.0;
     for (int a = 0; a < 3; ++a) cut_.push_back(float(v[a] * s));
   }
+  template <class = void>
   const float* cut_data(std::uint32_t i) const {
     return cut_.data() + std::size_t(vsrc_[i] & ~cut_bit) * std::size_t(L_.cut_stride);
   }
 
   // Faces remapped through rep_of, collapsed ones dropped, stable counting sort by group.
+  template <class = void>
   std::vector<std::uint32_t> kept_faces_by_group(const std::vector<std::uint32_t>& rep_of) {
     const std::size_t nf = fgroup_.size(), ng = in_.groups.size();
     std::vector<std::uint32_t> gstart(ng + 1, 0);
@@ -251,6 +270,7 @@ class StitchOutput {
     return order;
   }
 
+  template <class = void>
   void write_vertices(const std::vector<std::uint32_t>& old, Mesh& m) const {
     const Eigen::Index nv = Eigen::Index(old.size());
     m.V.resize(nv, 3);

@@ -41,6 +41,7 @@ struct Region {
   std::array<double, 3> end_from{{-INFINITY, -INFINITY, -INFINITY}}, end_to{{INFINITY, INFINITY, INFINITY}};
   bool end_cut = false;  ///< some end_from / end_to is finite
 
+  template <class = void>
   Region(const StitchRegions& regions, std::int32_t r, const CellGrid& out, const Eigen::Array3i& cells_in)
       : id(r), owner(r), d(regions.shift[std::size_t(r)]) {
     set_keep(out, cells_in);
@@ -51,6 +52,7 @@ struct Region {
     }
   }
   /// End cap c of `regions`.
+  template <class = void>
   Region(const StitchRegions& regions, std::size_t c, const CellGrid& out, const Eigen::Array3i& cells_in)
       : id(std::int32_t(regions.size() + c)), owner(regions.caps[c].owner), cap_axis(regions.caps[c].axis),
         cap_side(regions.caps[c].side), cap_face(regions.caps[c].face), cap_plane(regions.caps[c].plane),
@@ -64,6 +66,7 @@ struct Region {
   }
 
  private:
+  template <class = void>
   void set_keep(const CellGrid& out, const Eigen::Array3i& cells_in) {
     for (int a = 0; a < 3; ++a) {
       keep_low[std::size_t(a)] = d(a) == 0;
@@ -75,7 +78,8 @@ struct Region {
 };
 
 /// Does input cell (i, j, k), moved by r's shift, land in r's cells (for a cap: on its end face)?
-inline bool holds_source_cell(const StitchRegions& regions, const CellGrid& out, const Region& r, int i, int j,
+template <class = void>
+bool holds_source_cell(const StitchRegions& regions, const CellGrid& out, const Region& r, int i, int j,
                               int k) {
   if (r.cap_axis < 0) return regions.holds_source_cell(out, r.id, i, j, k);
   const Eigen::Array3i x = Eigen::Array3i(i, j, k) + r.d;  // the cap's own (anchored) shift
@@ -85,11 +89,13 @@ inline bool holds_source_cell(const StitchRegions& regions, const CellGrid& out,
 
 class RegionClipper {
  public:
+  template <class = void>
   RegionClipper(const Mesh& in, const ClipStitchCache& cache, const VertexLayout& layout, const CellGrid& out,
                 const StitchRegions& regions, StitchOutput& output)
       : in_(in), cache_(cache), L_(layout), out_(out), regions_(regions), o_(output), vbuf_(std::size_t(layout.stride)) {}
 
   /// Copies or clips input triangle f into region r; returns true when it was clipped.
+  template <class = void>
   bool add_triangle(const Region& r, std::uint32_t f) {
     const std::int32_t* range = cache_.range(f);
     const std::uint32_t g = in_.FG(Eigen::Index(f));
@@ -116,6 +122,7 @@ class RegionClipper {
  private:
   // No overhang cut needed, and every cell of its range in the region (a
   // one-cell triangle came from that cell's bucket, so its cell is in).
+  template <class = void>
   bool whole(const Region& r, std::uint32_t f, const std::int32_t* range) const {
     if (r.cap_axis >= 0) return false;  // a cap keeps only what lies beyond its end's plane
     if ((cache_.overhang(f) & r.cut_mask) != 0) return false;
@@ -133,6 +140,7 @@ class RegionClipper {
 
   // Cuts work_[0] at the overhang planes the region does not keep (and, for a cap, away from the
   // overhang it copies); false when nothing is left.
+  template <class = void>
   bool cut_overhang(const Region& r, std::uint8_t flags) {
     const Eigen::Array3i& cells = cache_.lattice().cells;
     if (r.cap_axis >= 0) {
@@ -167,6 +175,7 @@ class RegionClipper {
   }
 
   // Tight clamped cell range of a polygon.
+  template <class = void>
   void polygon_range(const ClipPolygon& p, std::array<int, 3>& lo, std::array<int, 3>& hi) const {
     for (int a = 0; a < 3; ++a) {
       double m = INFINITY, M = -INFINITY;
@@ -183,6 +192,7 @@ class RegionClipper {
   }
 
   // Counts the cells of a box that belong to the region.
+  template <class = void>
   std::int64_t count_in(const Region& r, const std::array<int, 3>& lo, const std::array<int, 3>& hi) const {
     std::int64_t c = 0;
     for (int k = lo[2]; k <= hi[2]; ++k)
@@ -197,6 +207,7 @@ class RegionClipper {
   // one with a side all in; ties go to the first, axis by axis, low to high.
   // So cuts fall on the region's boundary. Without any, the middle of the
   // longest axis.
+  template <class = void>
   std::pair<int, int> split_plane(const Region& r, const std::array<int, 3>& lo, const std::array<int, 3>& hi,
                                   std::int64_t in_count, std::int64_t total) const {
     int axis = -1, plane = 0, score = 0;
@@ -225,6 +236,7 @@ class RegionClipper {
   // all in, or all out of, the region; emits the pieces that are in.
   // Level L splits work_[L] into work_[L + 1] (low) and spare_[L + 1] (high);
   // deeper levels never touch spare_[L + 1], so the high piece waits there.
+  template <class = void>
   void bsp(const Region& r, std::size_t depth, std::array<int, 3> lo, std::array<int, 3> hi, std::uint32_t group) {
     if (work_.size() < depth + 2) work_.resize(depth + 2), spare_.resize(depth + 2);
     polygon_range(work_[depth], lo, hi);
@@ -250,6 +262,7 @@ class RegionClipper {
   }
 
   // A convex piece in the region, fanned into triangles; slivers dropped.
+  template <class = void>
   void emit(const Region& r, const ClipPolygon& p, std::uint32_t group) {
     if (p.n < 3) return;
     const double tol2 = cache_.tolerance() * cache_.tolerance();

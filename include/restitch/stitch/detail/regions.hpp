@@ -53,6 +53,7 @@ struct StitchRegions {
   std::size_t size() const { return shift.size(); }
 
   /// Does input cell (i, j, k), moved by region r's shift, land in region r?
+  template <class = void>
   bool holds_source_cell(const CellGrid& out, std::int32_t r, int i, int j, int k) const {
     const Eigen::Array3i& d = shift[std::size_t(r)];
     const std::int64_t x = std::int64_t(i) + d(0), y = std::int64_t(j) + d(1), z = std::int64_t(k) + d(2);
@@ -62,7 +63,8 @@ struct StitchRegions {
 };
 
 /// The regions of `cell_shift` (one label per output cell of `out`, linear order) over the input `lattice`.
-inline StitchRegions build_regions(const Lattice& lattice, const CellGrid& out,
+template <class = void>
+StitchRegions build_regions(const Lattice& lattice, const CellGrid& out,
                                    const std::vector<Eigen::Array3i>& cell_shift) {
   StitchRegions g;
   const std::size_t n = cell_shift.size();

@@ -65,7 +65,8 @@ namespace restitch::detail {
 /// Splits boundary seam edges at T-vertices (see the file comment). `rep_of`
 /// is the weld map; it grows by one entry per new vertex. `tol` is the weld
 /// tolerance used. Returns how many edges were split.
-inline std::size_t repair_t_junctions(StitchOutput& o, const Mesh& in, const ClipStitchCache& cache,
+template <class = void>
+std::size_t repair_t_junctions(StitchOutput& o, const Mesh& in, const ClipStitchCache& cache,
                                       const VertexLayout& L, float attribute_tolerance, double tol,
                                       std::vector<std::uint32_t>& rep_of) {
   const std::size_t nf = o.face_count();

@@ -31,13 +31,15 @@
 
 namespace restitch::detail {
 
-inline std::vector<std::uint32_t> identity_map(std::size_t n) {
+template <class = void>
+std::vector<std::uint32_t> identity_map(std::size_t n) {
   std::vector<std::uint32_t> m(n);
   for (std::size_t i = 0; i < n; ++i) m[i] = std::uint32_t(i);
   return m;
 }
 
-inline double squared_distance(const float* pi, const float* pj) {
+template <class = void>
+double squared_distance(const float* pi, const float* pj) {
   double d2 = 0;
   for (int a = 0; a < 3; ++a) {
     const double d = double(pi[a]) - double(pj[a]);
@@ -48,12 +50,14 @@ inline double squared_distance(const float* pi, const float* pj) {
 
 /// Are output vertices i and j two untouched input vertices copied by one region? Such a pair is never
 /// welded nor moved onto each other: the stitcher does not change the input's own topology.
-inline bool same_region_copies(const StitchOutput& o, std::uint32_t i, std::uint32_t j) {
+template <class = void>
+bool same_region_copies(const StitchOutput& o, std::uint32_t i, std::uint32_t j) {
   return !o.is_cut(i) && !o.is_cut(j) && o.region(i) == o.region(j);
 }
 
 /// Do output vertices i and j (positions pi, pj) weld? See the file comment.
-inline bool weld_compatible(const StitchOutput& o, const Mesh& in, const VertexLayout& L, float attribute_tolerance,
+template <class = void>
+bool weld_compatible(const StitchOutput& o, const Mesh& in, const VertexLayout& L, float attribute_tolerance,
                             std::uint32_t i, std::uint32_t j, const float* pi, const float* pj, double tol2) {
   if (o.group(i) != o.group(j)) return false;
   if (same_region_copies(o, i, j)) return false;
@@ -81,7 +85,8 @@ inline bool weld_compatible(const StitchOutput& o, const Mesh& in, const VertexL
 /// whose position it takes, itself when none; left empty when no vertex takes
 /// another's) and `snapped` (how many do) are the geometric part, for
 /// StitchOutput::snap_positions.
-inline std::vector<std::uint32_t> weld_map(const StitchOutput& o, const Mesh& in, const ClipStitchCache& cache,
+template <class = void>
+std::vector<std::uint32_t> weld_map(const StitchOutput& o, const Mesh& in, const ClipStitchCache& cache,
                                            const VertexLayout& L, float attribute_tolerance, std::size_t& welded,
                                            std::vector<std::uint32_t>& snap_to, std::size_t& snapped,
                                            double* tolerance_used = nullptr) {
