@@ -19,7 +19,8 @@ using Vec3 = Eigen::Vector3d;
 
 namespace {
 
-const std::vector<std::string> kNames = {"bookshelf", "facade", "facade_sheared", "fence", "pin_header"};
+const std::vector<std::string> kNames = {"bookshelf", "box_header", "cabinet",   "connector", "facade", "facade_sheared",
+                                         "fence",     "pin_header", "radiator", "railing",   "shutter"};
 
 SampleModel make(const std::string& name, const std::map<std::string, double>& o = {}) {
   auto r = generate(name, o);
@@ -125,8 +126,8 @@ TEST_CASE("catalog lists every sample in a fixed order with sane parameters", "[
       CHECK(!p.help.empty());
       if (p.integer) {
         CHECK(p.value == std::floor(p.value));
-        // Counts and detail are >= 1 (families.hpp); the one other integer kind is a 0/1 switch
-        // (pin_header's `closed`).
+        // Counts, detail and a 1-based index are >= 1 (families.hpp); the one other integer kind is a 0/1
+        // switch (pin_header's `closed`, radiator's `valve`).
         CHECK((p.min >= 1 || (p.min == 0 && p.max == 1)));
       }
       has_detail = has_detail || (p.name == "detail" && p.integer);
@@ -189,7 +190,7 @@ TEST_CASE("every sample generates with its defaults: valid, attributed, 1k-5k tr
     CHECK(degenerate == 0);
     // Ground truth: generators, counts, blocks; at least 3 repeats, each generator
     // clearly longer than tau = 0.15 in normalized units.
-    const std::size_t ng = (name == "fence" || name == "pin_header") ? 1 : 2;
+    const std::size_t ng = (name == "bookshelf" || name == "facade" || name == "facade_sheared") ? 2 : 1;
     REQUIRE(s.generators.size() == ng);
     REQUIRE(s.count_parameters.size() == ng);
     REQUIRE(s.counts.size() == ng);

@@ -14,10 +14,24 @@
 //   fence           pickets with pointed tops on two rails between posts.   m
 //   pin_header      pins at 2.54 mm in a body of one segment per pin.       mm
 //
+// and, with structure around the repeat (restitch/families/structured.hpp;
+// SampleModel::parts lists what occurs once):
+//
+//   box_header      a shrouded two-row header, a key notch centred.         mm
+//   cabinet         short drawers over one tall drawer.                     m
+//   connector       a housing reaching past pin 1 (at the origin), a key,
+//                   a back-wall slot next to each end.                      mm
+//   radiator        sections, a valve under one of them; `drift` grows the
+//                   pitch along the row (no exact copies).                  m
+//   railing         balusters alternating plain / with a ring: the period
+//                   is the pair.                                            m
+//   shutter         slats in two runs split by a middle rail.               m
+//
 // Coordinates: y up, x along the first generator, z towards the viewer
 // (front faces at the largest z), model units as listed (m or mm).
 //
-// THE KEY PROPERTY. Along every generator g a sample is
+// THE KEY PROPERTY (of the plain families; the structured ones keep it for
+// the modules no part changes). Along every generator g a sample is
 //   [start cap] [module] x modules[g] [end cap]
 // where the modules are exact translates of one template module: block b of
 // generator g sits at `origin + b * generators[g]` (plus the other

@@ -1,4 +1,4 @@
-// restitch/families/generators.hpp - the five generated families (internal): parameters, checks, builders.
+// restitch/families/generators.hpp - the generated families (internal): parameters, checks, builders.
 //
 // Each family has an `_info()` (its catalogue entry: parameters with defaults
 // and ranges), a `_check()` (constraints between parameters, as Status) and a
@@ -485,6 +485,16 @@ void pin_header_build(const ParameterValues& P, SampleMeshBuilder& B, SampleMode
   }
 }
 
+}  // namespace detail
+}  // namespace families
+}  // namespace restitch
+
+#include "restitch/families/structured.hpp"
+
+namespace restitch {
+namespace families {
+namespace detail {
+
 // ---------------------------------------------------------------------------
 
 struct SampleFamily {
@@ -499,10 +509,16 @@ template <class = void>
 const std::vector<SampleFamily>& families() {
   static const std::vector<SampleFamily> f = {
       {bookshelf_info, bookshelf_check, bookshelf_build, 0.1, 1.0},
+      {box_header_info, box_header_check, box_header_build, 1.0, 10.0},
+      {cabinet_info, cabinet_check, cabinet_build, 0.1, 1.0},
+      {connector_info, connector_check, connector_build, 1.0, 10.0},
       {facade_info, facade_check, facade_build, 1.0, 1.0},
       {facade_sheared_info, facade_check, facade_build, 1.0, 1.0},
       {fence_info, fence_check, fence_build, 0.1, 1.0},
       {pin_header_info, pin_header_check, pin_header_build, 1.0, 10.0},
+      {radiator_info, radiator_check, radiator_build, 0.05, 1.0},
+      {railing_info, railing_check, railing_build, 0.1, 1.0},
+      {shutter_info, shutter_check, shutter_build, 0.05, 1.0},
   };
   return f;
 }

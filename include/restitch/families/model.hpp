@@ -30,6 +30,16 @@ struct SampleInfo {
   std::vector<Parameter> parameters;
 };
 
+/// A part that occurs once along a generator (a key notch, a slot next to an end, a valve, a tall drawer):
+/// the blocks it changes (module indices; -1 the start cap, modules[g] the end cap) and where a resize
+/// keeps it ("low end", "high end" or "centre").
+struct SamplePart {
+  int generator = 0;
+  int first = 0, last = 0;
+  std::string anchor;
+  std::string name;
+};
+
 /// A generated sample and its ground truth.
 struct SampleModel {
   Mesh mesh;
@@ -50,6 +60,8 @@ struct SampleModel {
   /// Per generator, per face: -1 if the face belongs to the start cap along
   /// that generator, i in [0, modules[g]) for module i, modules[g] for the end cap.
   std::vector<Eigen::VectorXi> face_block;
+  /// The parts that occur once (empty for the plain families, whose modules are all translates of module 0).
+  std::vector<SamplePart> parts;
 };
 
 /// Largest mesh `generate` builds (triangles); larger requests get too_large.
