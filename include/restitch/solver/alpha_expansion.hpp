@@ -510,7 +510,7 @@ class AlphaExpansion {
   /// side (a run ends with a whole cycle of them). Used only where the problem says its terms may be read from several threads at once
   /// (`bool terms_thread_safe() const`; a problem without it is read from one thread) and the problem has
   /// at least `min_parallel_size` nodes plus edges: below that an expansion takes about as long as
-  /// handing it to another thread (README, Benchmarks). A WebAssembly build without threads runs on one.
+  /// handing it to another thread (docs/benchmarks.md). A WebAssembly build without threads runs on one.
   int threads = 1;
   int min_parallel_size = 4096;
   MoveObserver on_move;

@@ -1,7 +1,7 @@
 // restitch/solver/max_flow_push_relabel.hpp - a push-relabel max-flow back end,
 // the default of AlphaExpansion: with it the bench's synthetic problem (1000
 // nodes, 26-neighbourhood, 30 labels) solves 2.6x faster than with BkMaxFlow,
-// and the expansion problems dumped from the models 1.0-2.4x (README).
+// and the expansion problems dumped from the models 1.0-2.4x (docs/benchmarks.md).
 //
 // Satisfies the max-flow back-end contract of restitch/solver/max_flow_bk.hpp
 // (reset, add_node, add_tweights, add_edge, max_flow, in_source_segment) and
