@@ -101,6 +101,9 @@ void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen
   if (rep.seams_moved > 0)
     std::printf("\n  seam planes moved off their cell planes: %d (to where the copies continue each other)",
                 rep.seams_moved);
+  for (const PartReport& part : rep.parts)  // docs/method.md 2.10
+    std::printf("\n  kept once: cells %d-%d along axis %d (at the %s), moved %d cell(s)", part.first + 1, part.last + 1,
+                part.axis + 1, part_anchor_name(part.anchor), part.shift);
   std::printf("\n  wrote %s: %zu triangles in, %zu out\n", args.output.c_str(), rep.triangles_in, rep.triangles_out);
   std::printf("  boundary edges (positions welded): %zu in, %zu out\n", rep.boundary_edges_in, rep.boundary_edges_out);
   if (rep.weld_tolerance_measured)
@@ -164,8 +167,7 @@ int run_resize(const ResizeArgs& args) {
   if (!args.json.empty())
     if (Status s = write_json(j, args.json); !s) return fail(s, true);
   if (args.strict && !out->report.warnings.empty()) {
-    std::fprintf(stderr, "restitch: --strict: %zu seam(s) over the tolerance (exit %d)\n",
-                 out->report.warnings.size(), int(exit_seam));
+    std::fprintf(stderr, "restitch: --strict: %zu warning(s) (exit %d)\n", out->report.warnings.size(), int(exit_seam));
     return exit_seam;
   }
   return exit_ok;

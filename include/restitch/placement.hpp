@@ -6,9 +6,19 @@
 // pivot is chosen per world axis x, y, z:
 //
 //   origin  (default) the model's origin (0,0,0), clamped into its bounding
-//           box. Along a lattice axis the input cell holding it decides: the
-//           first cell keeps that end fixed, the last cell keeps that end
-//           fixed, any other cell grows (or shrinks) both ways, split evenly.
+//           box: the content there stays where it is. Along a lattice axis,
+//           with the model's structure (restitch/lattice/structure.hpp): in
+//           a part that occurs once, that part stays (a part at an end keeps
+//           that end fixed, a centred one splits as `center`); in repeated
+//           content, the end of the model nearer to it stays fixed, and growth
+//           splits evenly when it lies at the model's centre (within one
+//           sample spacing, how closely the centre is measured), or within
+//           half a period of it in a module that is not the first or the last
+//           that repeats. So a connector whose housing reaches past pin 1
+//           at the origin keeps pin 1 where it was, whatever the grid phase.
+//           Without the structure (RetargetOptions::keep_parts off, the
+//           regular baseline) the cell holding it decides: the first cell
+//           keeps that end, the last cell the other, any other splits evenly.
 //           A single-cell axis keeps the end of the half the origin lies in.
 //   min     the end at the bounding box's minimum stays fixed.
 //   max     the end at the bounding box's maximum stays fixed.
@@ -42,6 +52,7 @@
 #include "restitch/analysis.hpp"
 #include "restitch/lattice/lattice.hpp"
 #include "restitch/mesh.hpp"
+#include "restitch/lattice/structure.hpp"
 #include "restitch/status.hpp"
 
 namespace restitch {
@@ -102,9 +113,11 @@ struct Placement {
 };
 
 /// The placement of a resize by lattice `steps` (per axis of `L`, the analysis lattice) of a model whose
-/// bounding box is `box`, with `modes` per world axis.
+/// bounding box is `box`, with `modes` per world axis. `structure` (on the cells of L; null: none) places
+/// by content for the `origin` mode (see the file comment).
 template <class = void>
-Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& steps, const Pivots& modes) {
+Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& steps, const Pivots& modes,
+                const CellStructure* structure = nullptr) {
   Placement out;
   out.modes = modes;
   const Eigen::Vector3d origin = Eigen::Vector3d::Zero().cwiseMax(box.min).cwiseMin(box.max);
@@ -130,7 +143,23 @@ Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& 
       case Pivot::origin: {
         const int n = L.cells[a];
         const int j = std::clamp(int(std::floor(c[a])), 0, n - 1);
-        if (n == 1)
+        if (structure && n > 1) {  // by content: the origin's part, or the nearer end of the model
+          if (const SingularPart* p = structure->part_of(a, j))
+            low = CellStructure::shift_of(*p, k);  // the part stays where it is
+          else {
+            // At the centre: split. In the first or last module that repeats (pin 1 of a two-pin part, half a
+            // period from its centre): the nearer end. Elsewhere within half a period of the centre: split.
+            const double to_low = c[a] - structure->extent_low[a], to_high = structure->extent_high[a] - c[a];
+            const double off = std::abs(to_low - to_high) / 2;
+            int first = 0, last = n - 1;
+            while (first < n - 1 && !structure->repeats(a, first)) ++first;
+            while (last > 0 && !structure->repeats(a, last)) --last;
+            const bool next_to_end = j <= first || j >= last;
+            low = off <= structure->spacing[a] || (!next_to_end && off <= structure->centre_band[a]) ? split
+                  : to_low < to_high                                                                ? keep_low
+                                                                                                    : keep_high;
+          }
+        } else if (n == 1)
           low = c[a] < 0.5 ? keep_low : keep_high;
         else if (j == 0)
           low = keep_low;

@@ -185,6 +185,25 @@ class SeamMrf {
     }
   }
 
+  /// Content that occurs once (docs/method.md 2.10; restitch/lattice/structure.hpp): input slab `slab`
+  /// along resized axis a may be copied only with shift `shift` along a (any other label of a node that
+  /// would copy it costs `forbidden`, so it is never copied twice); with `place`, the output slab
+  /// `slab + shift` must copy it (any other shift along a there costs `forbidden`, so it is not lost). A
+  /// placed slab also starts the labelling there (initial_labels). Added to the unary table.
+  template <class = void>
+  void pin_slab(int a, int slab, int shift, bool place) {
+    const int n = node_count(), m = label_count();
+    for (int x = 0; x < n; ++x) {
+      const Eigen::Array3i cx = out_.cell(x);
+      for (int l = 0; l < m; ++l) {
+        const int d = labels_[std::size_t(l)][a];
+        if ((cx[a] - d == slab || (place && cx[a] == slab + shift)) && d != shift)
+          unary_[std::size_t(x) * std::size_t(m) + std::size_t(l)] += forbidden_;
+      }
+    }
+    if (place) pins_[std::size_t(a)].push_back({slab + shift, shift});
+  }
+
   // ---- the labelling-problem contract ----
   int node_count() const { return int(out_.size()); }
   int label_count() const { return int(labels_.size()); }
@@ -218,17 +237,34 @@ class SeamMrf {
   SeamEnergy energy() const { return slabs_ ? SeamEnergy::geometry : SeamEnergy::descriptor; }
 
   /// A starting labelling: the input's own layout stretched, i.e. each cell
-  /// copies the nearest end (label 0 in the low part, k in the high part).
+  /// copies the nearest end (label 0 in the low part, k in the high part), or
+  /// with placed slabs (pin_slab) the nearest of those and the ends.
   template <class = void>
   std::vector<int> initial_labels() const {
     std::vector<int> lab(static_cast<std::size_t>(node_count()));
     for (int x = 0; x < node_count(); ++x) {
       const Eigen::Array3i cx = out_.cell(x);
       Eigen::Array3i d = Eigen::Array3i::Zero();
-      for (int a = 0; a < 3; ++a) d[a] = (2 * cx[a] >= out_.dims[a]) ? k_[a] : 0;
+      for (int a = 0; a < 3; ++a) d[a] = initial_shift(a, cx[a]);
       lab[std::size_t(x)] = label_of(d);
     }
     return lab;
+  }
+
+  /// The shift along axis a that initial_labels gives output index i: the nearest end's (0 in the low
+  /// half, k in the high half), or with placed slabs the nearest of them and the ends (the lower on a tie).
+  template <class = void>
+  int initial_shift(int a, int i) const {
+    const std::vector<std::pair<int, int>>& pins = pins_[std::size_t(a)];
+    if (pins.empty()) return (2 * i >= out_.dims[a]) ? k_[a] : 0;
+    int best_at = 0, shift = 0;  // the low end first
+    const auto consider = [&](int at, int d) {
+      const int dist = std::abs(i - at), best = std::abs(i - best_at);
+      if (dist < best || (dist == best && at < best_at)) best_at = at, shift = d;
+    };
+    for (const auto& [at, d] : pins) consider(at, d);
+    consider(out_.dims[a] - 1, k_[a]);
+    return shift;
   }
 
   /// How many pairwise terms separable_labels() evaluates (its cost).
@@ -255,8 +291,7 @@ class SeamMrf {
     for (int a = 0; a < 3; ++a) {
       m[std::size_t(a)] = std::abs(k_[a]) + 1;
       f[std::size_t(a)].resize(std::size_t(out_.dims[a]));
-      for (int i = 0; i < out_.dims[a]; ++i)
-        f[std::size_t(a)][std::size_t(i)] = 2 * i >= out_.dims[a] ? m[std::size_t(a)] - 1 : 0;
+      for (int i = 0; i < out_.dims[a]; ++i) f[std::size_t(a)][std::size_t(i)] = std::abs(initial_shift(a, i));
     }
     // Label index with axis a's shift replaced by t (labels are ordered x fastest, build_labels).
     const auto label = [&](const Eigen::Array3i& c, int a, int t) {
@@ -484,6 +519,7 @@ class SeamMrf {
   std::vector<int> source_;                          // per node and label: input cell index, -1 outside
   std::vector<std::uint32_t> difference_;            // per label pair (i, j): span_ index of d_i - d_j
   std::vector<std::array<std::uint8_t, 2>> edge_dirs_;  // per edge: direction index of each end toward the other
+  std::array<std::vector<std::pair<int, int>>, 3> pins_;  // per axis: placed slabs (output index, shift)
 };
 
 }  // namespace restitch

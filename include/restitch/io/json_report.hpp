@@ -30,8 +30,11 @@
 //   sample_spacing, seam_tolerance, max_seam_mismatch (model units), seams [{cells [[i,j,k] x2]
 //   (output cells; the second lies outside for an anchored end), labels [[du,dv,dw] x2], mismatch
 //   (model units), outer, offset (cells from the cell face, docs/method.md 2.9)}] (docs/method.md 2.8),
-//   warnings [string] (seams over the tolerance; empty when fine), seams_moved, plane_offsets [[..] x3]
-//   (per lattice axis, the offset of each plane between output cells; [] when none moved, 2.9).
+//   warnings [string] (seams over the tolerance, parts kept off their place; empty when fine), seams_moved,
+//   plane_offsets [[..] x3] (per lattice axis, the offset of each plane between output cells; [] when
+//   none moved, 2.9), parts [{axis (1-based lattice axis), cells [first, last] (1-based input cells),
+//   anchor ("low end" | "high end" | "centre"), shift (cells it moved along its axis)}] (parts that occur
+//   once, kept once; docs/method.md 2.10).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -136,6 +139,12 @@ nlohmann::json retarget_json(const RetargetReport& r) {
   j["warnings"] = r.warnings;
   j["seams_moved"] = r.seams_moved;
   j["plane_offsets"] = {r.plane_offsets[0], r.plane_offsets[1], r.plane_offsets[2]};
+  j["parts"] = nlohmann::json::array();
+  for (const PartReport& p : r.parts)
+    j["parts"].push_back({{"axis", p.axis + 1},
+                          {"cells", {p.first + 1, p.last + 1}},
+                          {"anchor", part_anchor_name(p.anchor)},
+                          {"shift", p.shift}});
   return j;
 }
 

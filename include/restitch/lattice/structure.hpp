@@ -1,0 +1,271 @@
+// restitch/lattice/structure.hpp - what repeats along each lattice axis, and what occurs once (docs/method.md 2.10).
+//
+// A model is rarely n copies of one module: a connector's housing reaches past its first pin, a box
+// header has one key notch in the middle, a radiator one valve, a cabinet a tall drawer under short
+// ones. Along each lattice axis a, slabs i and j (every input cell with index i, or j, along a) are
+// *copies* when each one's surface, moved onto the other by (j - i) periods, lies on the model's surface:
+// every dense sample of slab i moved by (j - i) v_a, and of slab j moved back, is within the tolerance of
+// the mesh (exact point-to-triangle distance, so the test does not depend on the sampling or on how either
+// copy is triangulated). A slab *repeats* when a neighbour is a copy of it (it is periodic), or when a
+// periodic slab farther away is (a box header's plain column between the shroud's end and a notched
+// column). So a slot next to each end, whose modules are copies of each other but not of the periodic
+// plain modules between them, occurs once at each end. Along an axis of three cells or more where no
+// two neighbours are copies (three modules, a slot next to each end around one plain one; a key notch
+// that reaches every column) whole periods cannot tell what occurs once: the axis is *undecided* and
+// resized as the paper does, with a warning. Two whole slabs between the end planes that are no copies
+// are the model's two ends, which the anchored ends and the end caps keep: no parts, no warning. The model's ends beyond their end planes are left out (the stitcher keeps them
+// at the ends: end caps), and so are samples that move there. Tolerance: 1e-3 of the bounding-box
+// diagonal, 15 times the coarsest copies the weld closes (6.4e-5, docs/method.md 3) and below any part a
+// modeller places on purpose. A slab that does not repeat holds content that occurs once: consecutive
+// such slabs form a *part*. A part is anchored
+//   * to the low end when it holds the first slab, or its centre (the middle of its own content: where
+//     it differs from the nearest repeating slab) lies nearer the low end of the model than the high end
+//     by more than half a period;
+//   * to the high end likewise;
+//   * to the centre otherwise (its centre within half a period of the model's centre, plus one sample
+//     spacing, how closely the centre is measured: whole periods cannot tell closer), where a resize
+//     keeps it as near the new centre as whole periods allow.
+// A resize keeps every part once, at the same distance from the end it is anchored to, or at the
+// centre (docs/method.md 2.10: constraints on the labelling, restitch/retarget/labelling.hpp), and
+// places the model so the content at its origin stays where it was (restitch/placement.hpp).
+//
+// Cost: an AABB tree over the triangles (O(#F log #F)), then bounded point-to-surface queries: two per
+// dense sample and axis for the neighbours, and a test that stops at its first sample off the surface
+// per other slab a slab that does not repeat next door is compared with. Once per Retargeter.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "restitch/analysis.hpp"
+#include "restitch/detail/triangle_surface.hpp"
+#include "restitch/energy/seam_geometry.hpp"
+#include "restitch/lattice/lattice.hpp"
+#include "restitch/mesh.hpp"
+
+namespace restitch {
+
+/// Where a part that occurs once is kept when the model is resized along its axis.
+enum class PartAnchor { low, high, centre };
+
+inline const char* part_anchor_name(PartAnchor a) {
+  return a == PartAnchor::low ? "low end" : a == PartAnchor::high ? "high end" : "centre";
+}
+
+/// Consecutive slabs along one lattice axis that are copies of neither neighbour.
+struct SingularPart {
+  int axis = 0;
+  int first = 0, last = 0;  ///< slab indices along the axis, inclusive
+  PartAnchor anchor = PartAnchor::low;
+  /// Its centre minus the model's centre along the axis, in periods (a centred part: within +-1/2).
+  double offset = 0;
+};
+
+struct CellStructure {
+  /// Per lattice axis, per slab: the slab it was found a copy of (its neighbours first), or -1 when it
+  /// does not repeat; empty along an axis of one cell and along dummy axes.
+  std::array<std::vector<int>, 3> copy_of;
+  /// Per axis: no two neighbouring slabs are copies, so what occurs once is not decided (no parts).
+  std::array<bool, 3> undecided{{false, false, false}};
+  std::vector<SingularPart> parts;  ///< by axis, then index
+  Eigen::Array3i cells = Eigen::Array3i::Ones();
+  /// Per axis: the model's extent in canonical coordinates (its samples' lowest and highest).
+  Eigen::Array3d extent_low = Eigen::Array3d::Zero(), extent_high = Eigen::Array3d::Zero();
+  /// Per axis: how far from the model's centre a centre still counts as the centre, in periods: half a
+  /// period (whole periods cannot tell closer) plus one sample spacing (how closely it is measured).
+  Eigen::Array3d centre_band = Eigen::Array3d::Constant(0.5);
+  /// Per axis: one sample spacing in periods, how closely a position along the axis is measured.
+  Eigen::Array3d spacing = Eigen::Array3d::Zero();
+  double tolerance = 0;  ///< model units
+
+  /// Whether slab i along axis a repeats (true along an axis without a structure).
+  bool repeats(int a, int i) const {
+    const std::vector<int>& c = copy_of[std::size_t(a)];
+    return c.empty() || c[std::size_t(i)] >= 0;
+  }
+  /// The part holding slab i along axis a, or null when slab i repeats.
+  const SingularPart* part_of(int a, int i) const {
+    for (const SingularPart& p : parts)
+      if (p.axis == a && p.first <= i && i <= p.last) return &p;
+    return nullptr;
+  }
+  /// The label shift along a that keeps part p where it belongs in a resize by k cells along a: 0 for
+  /// the low end, k for the high end; for the centre, the whole number of cells d that brings it nearest
+  /// the new centre (which moves by k / 2: |offset + d - k / 2| least), and of two equally near the one on
+  /// the side of the centre the part was on (above it for a part exactly centred). A part off the centre
+  /// by half a period in a model of odd length (a rail after ceil(n / 2) of n slats) is so kept exactly.
+  static int shift_of(const SingularPart& p, int k) {
+    if (p.anchor != PartAnchor::centre) return p.anchor == PartAnchor::low ? 0 : k;
+    const double want = 0.5 * k - p.offset;  // d with the part exactly at the new centre
+    const int below = int(std::floor(want)), above = below + 1;
+    const double miss_below = want - below, miss_above = above - want;  // how far each lands from it
+    if (std::abs(miss_below - miss_above) > 1e-9) return miss_below < miss_above ? below : above;
+    return p.offset < 0 ? below : above;  // a tie: stay on the part's side (above when centred)
+  }
+  /// How far part p lies from the centre after a resize by k along its axis with shift_of (periods).
+  static double offset_after(const SingularPart& p, int k) { return p.offset + shift_of(p, k) - 0.5 * k; }
+};
+
+/// "cells 3-4 (centre)" style description of a part, 1-based as the CLI counts cells.
+inline std::string describe_part(const SingularPart& p) {
+  const std::string cells = p.first == p.last ? "cell " + std::to_string(p.first + 1)
+                                              : "cells " + std::to_string(p.first + 1) + "-" + std::to_string(p.last + 1);
+  return cells + " along axis " + std::to_string(p.axis + 1) + " (kept at the " + part_anchor_name(p.anchor) + ")";
+}
+
+/// Whether the parts along axis a still fit, in order and apart, when it changes by k cells: each
+/// part's slabs land at slab + CellStructure::shift_of inside the output, after the previous part's.
+template <class = void>
+bool parts_fit(const CellStructure& s, int a, int k) {
+  const int out = s.cells[a] + k;
+  int next_free = 0;
+  for (const SingularPart& p : s.parts) {
+    if (p.axis != a) continue;
+    const int d = CellStructure::shift_of(p, k);
+    if (p.first + d < next_free || p.last + d >= out) return false;
+    next_free = p.last + d + 1;
+  }
+  return true;
+}
+
+/// The structure of `mesh` on the label grid `grid` (model units), from the dense samples of `analysis`
+/// (see the file comment). `tolerance`: model units (0: 1e-3 of the bounding-box diagonal). Dummy axes and
+/// axes of one cell have no parts. `mesh_surface`: the mesh's triangles under their tree, when the caller
+/// has them (null: built here).
+template <class = void>
+CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const Lattice& grid, double tolerance = 0,
+                             const detail::TriangleSurface* mesh_surface = nullptr) {
+  CellStructure s;
+  s.cells = grid.cells;
+  s.tolerance = tolerance > 0 ? tolerance : 1e-3 * bounding_box(mesh).size().norm();
+  if (!(s.tolerance > 0)) return s;
+  const Eigen::Matrix3d Ainv = grid.A.inverse();
+  const MatrixX3f& P = analysis.dense.points;
+  std::vector<Eigen::Vector3d> points, canonical;
+  for (Eigen::Index i = 0; i < P.rows(); ++i) {
+    const Eigen::Vector3d p = analysis.normalization.to_model(P.row(i).template cast<double>().transpose());
+    if (!p.allFinite()) continue;
+    points.push_back(p);
+    canonical.push_back(Ainv * (p - grid.origin));
+  }
+  // The sample spacing (model units): how closely a part's centre is measured.
+  const double spacing = detail::median_nearest_distance(P) / (analysis.normalization.scale > 0 ? analysis.normalization.scale : 1);
+  std::unique_ptr<detail::TriangleSurface> own;  // built for the first axis that needs it, unless given
+  const detail::TriangleSurface* surface = mesh_surface;
+  for (int a = 0; a < 3; ++a) {
+    const int n = grid.cells[a];
+    if (grid.dummy[a] || n < 2) continue;
+    if (!surface) own = std::make_unique<detail::TriangleSurface>(mesh), surface = own.get();
+    const double lo = grid.end_low[a], hi = double(n - 1) + grid.end_high[a];
+    const Eigen::Vector3d v = grid.A.col(a);
+    std::vector<std::vector<std::size_t>> slab(static_cast<std::size_t>(n));  // the samples compared, by slab
+    double m0 = INFINITY, m1 = -INFINITY;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const double t = canonical[k][a];
+      m0 = std::min(m0, t), m1 = std::max(m1, t);
+      if (t >= lo && t < hi) slab[std::size_t(std::clamp(int(std::floor(t)), 0, n - 1))].push_back(k);
+    }
+    s.extent_low[a] = m0, s.extent_high[a] = m1;
+    s.spacing[a] = spacing / v.norm();
+    s.centre_band[a] = 0.5 + s.spacing[a];
+    // Slab i's samples moved by `shift` periods lie on the surface, and not in the model's end (where the
+    // other slab is the end, not a copy, and nothing could be compared).
+    const auto lands = [&](int i, int shift) {
+      for (const std::size_t k : slab[std::size_t(i)]) {
+        const double t = canonical[k][a] + shift;
+        if (t < lo || t >= hi) return false;
+        if (surface->distance_within(points[k] + double(shift) * v, 2 * s.tolerance) > s.tolerance) return false;
+      }
+      return true;
+    };
+    // An end slab with nothing compared (its whole cell is the model's end) is the end, not a copy.
+    const auto copies = [&](int i, int j) {
+      for (const int e : {i, j})
+        if ((e == 0 || e == n - 1) && slab[std::size_t(e)].empty()) return false;
+      return lands(i, j - i) && lands(j, i - j);
+    };
+    std::vector<int>& copy_of = s.copy_of[std::size_t(a)];
+    copy_of.assign(std::size_t(n), -1);
+    for (int i = 0; i + 1 < n; ++i)
+      if (copies(i, i + 1)) {
+        if (copy_of[std::size_t(i)] < 0) copy_of[std::size_t(i)] = i + 1;
+        copy_of[std::size_t(i + 1)] = i;
+      }
+    if (std::count(copy_of.begin(), copy_of.end(), -1) == n) {  // nothing repeats next door
+      // Whole slabs between the end planes: two are the model's two ends, which the anchored ends and end
+      // caps keep (docs/method.md 2.3, 3); from three on, the axis is undecided.
+      int whole = 0;
+      for (int i = 0; i < n; ++i) whole += i >= lo - 1e-9 && i + 1 <= hi + 1e-9;
+      s.undecided[std::size_t(a)] = whole >= 3;
+      continue;
+    }
+    // A slab that repeats next door is periodic. One that does not may still be a copy of a periodic one
+    // farther away (a box header's plain column beside the shroud's end, whose neighbour has the notch).
+    const std::vector<int> periodic = copy_of;
+    for (int i = 0; i < n; ++i)
+      for (int d = 2; d < n && copy_of[std::size_t(i)] < 0; ++d)
+        for (const int j : {i - d, i + d})
+          if (j >= 0 && j < n && periodic[std::size_t(j)] >= 0 && copy_of[std::size_t(i)] < 0 && copies(i, j))
+            copy_of[std::size_t(i)] = j;
+    // Where a part's own content lies along a: its difference from the repeated background, in its own
+    // place. With B the repeating slab nearest to slab j of the part (the run on j's side: a rail between
+    // two runs of slats may shift one against the other), the samples of B moved onto j
+    // that land off the surface (what the part lacks: a key notch), at their moved place, and the samples
+    // of j moved onto B that land off the surface (what it has more: the notch's sides), at their own
+    // place. Their extent's middle, over the part's slabs; the slabs' middle without a repeating slab.
+    const auto content_centre = [&](int first, int last) {
+      const auto nearest_repeating = [&](int j) {  // the lower on a tie; -1 when none
+        for (int d = 1; d < n; ++d)
+          for (const int i : {j - d, j + d})
+            if (i >= 0 && i < n && copy_of[std::size_t(i)] >= 0) return i;
+        return -1;
+      };
+      double lo_t = INFINITY, hi_t = -INFINITY;
+      const auto note_off = [&](int from, int shift, bool at_moved) {
+        for (const std::size_t k : slab[std::size_t(from)]) {
+          const double t = canonical[k][a] + shift;
+          if (t < lo || t >= hi) continue;
+          if (surface->distance_within(points[k] + double(shift) * v, 2 * s.tolerance) <= s.tolerance) continue;
+          const double at = at_moved ? t : canonical[k][a];
+          lo_t = std::min(lo_t, at), hi_t = std::max(hi_t, at);
+        }
+      };
+      for (int j = first; j <= last; ++j)
+        if (const int background = nearest_repeating(j); background >= 0) {
+          note_off(background, j - background, true);
+          note_off(j, background - j, false);
+        }
+      return lo_t <= hi_t ? 0.5 * (lo_t + hi_t) : 0.5 * double(first + last + 1);
+    };
+    for (int i = 0; i < n;) {
+      if (copy_of[std::size_t(i)] >= 0) {
+        ++i;
+        continue;
+      }
+      SingularPart p;
+      p.axis = a;
+      p.first = i;
+      while (i + 1 < n && copy_of[std::size_t(i + 1)] < 0) ++i;
+      p.last = i++;
+      const double centre = content_centre(p.first, p.last), to_low = centre - m0, to_high = m1 - centre;
+      p.offset = 0.5 * (to_low - to_high);
+      if (p.first == 0)
+        p.anchor = PartAnchor::low;
+      else if (p.last == n - 1)
+        p.anchor = PartAnchor::high;
+      else if (std::abs(p.offset) <= s.centre_band[a])
+        p.anchor = PartAnchor::centre;
+      else
+        p.anchor = to_low < to_high ? PartAnchor::low : PartAnchor::high;
+      s.parts.push_back(p);
+    }
+  }
+  return s;
+}
+
+}  // namespace restitch
