@@ -30,8 +30,14 @@ const families::SampleModel& two_pins() {
   static const families::SampleModel m = *families::generate("pin_header", {{"pins", 2}});
   return m;
 }
+// The 2-pin header analysed with exact pairs off (docs/method.md 1.13): its pair stays a candidate, so the
+// candidate and promotion machinery is tested on it.
 const Analysis& two_pins_analysis() {
-  static const Analysis a = *analyze(two_pins().mesh);
+  static const Analysis a = [] {
+    AnalysisOptions<> options;
+    options.exact_pairs = false;
+    return *analyze(two_pins().mesh, options);
+  }();
   return a;
 }
 
@@ -49,27 +55,35 @@ TEST_CASE("every dominant offset records the tests it ran, and significance is e
       CHECK(d.tests.front().name == "votes");
       // Two groups, each stopping at its first failure: the whole-surface tests, then (when they
       // failed and the peak had votes) the part tests, named part_... (offsets/part.hpp).
-      std::vector<OffsetTest> whole, part;
+      std::vector<OffsetTest> whole, part, pair;
       for (const OffsetTest& t : d.tests) {
         CHECK(t.passed == (t.at_most ? t.value <= t.threshold : t.value >= t.threshold));
-        (t.name.rfind("part_", 0) == 0 ? part : whole).push_back(t);
+        (t.name.rfind("part_", 0) == 0 ? part : t.name.rfind("pair_", 0) == 0 ? pair : whole).push_back(t);
       }
-      for (const auto* group : {&whole, &part})
+      for (const auto* group : {&whole, &part, &pair})
         for (std::size_t k = 0; k + 1 < group->size(); ++k) CHECK((*group)[k].passed);
       const bool whole_passed = whole.size() == 6 && whole.back().passed;
       const bool part_passed = !part.empty() && part.back().passed && part.back().name == "part_axis_contrast";
+      const bool pair_passed = pair.size() == 2 && pair.back().passed;  // two exact copies (method.md 1.13)
       if (whole_passed) CHECK(part.empty());  // the part test runs only where the whole surface failed
+      if (!pair.empty()) CHECK(d.is_pair() != d.significant);  // tried only on pairs
       // The histogram detector runs six whole-surface tests; significant when all six passed or,
-      // failing that, all the part tests did.
+      // failing that, all the part tests did, or, a pair, the exact-pair test did.
       if (!d.significant) CHECK(!whole_passed);
-      if (d.significant) CHECK((whole_passed || part_passed));
+      if (d.significant) CHECK((whole_passed || part_passed || pair_passed));
       CHECK((d.failed_test() == nullptr) == d.significant);
     }
   }
 }
 
-TEST_CASE("a 2-pin header: no principal offset, its pair is a candidate rejected by the repeat test",
+TEST_CASE("a 2-pin header: its two exact copies are a principal offset; with exact pairs off, a candidate "
+          "rejected by the repeat test",
           "[candidates][analysis]") {
+  {
+    const Analysis exact = *analyze(two_pins().mesh);
+    REQUIRE(exact.principal.size() == 1);
+    CHECK(recovered(two_pins().generators[0], exact.principal_model_units(), 1e-5, 0.01));
+  }
   const Analysis& a = two_pins_analysis();
   const Vector3d pitch = two_pins().generators[0];
   CHECK(a.principal.empty());

@@ -1,9 +1,10 @@
 // End-to-end test of the demo page in Debian's Chromium (headless, SwiftShader WebGL) with playwright-core:
 // serve demo_web/ on a free 127.0.0.1 port, open the page, wait for a sample to reach `ready`, drag a
 // slider, call setSteps, switch views, download the .glb and validate it, open files from disk (one made by
-// the module, one from ../shared/models when present, one broken), load the 2-pin header (no principal offset,
-// its pitch a pair candidate): hover its peak in the histogram, click the candidate, move the slider to 3 pins,
-// undo, click the peak, switch the detector; check the console stayed clean, and save demo_web/screenshot.png. Prints one line per check and ends with "e2e: N passed, M failed".
+// the module, one from ../shared/models when present, one broken), load the 2-pin header (its pitch principal
+// offset 1: move the slider to 3 pins), load the fence (its rails a pair candidate: a resize along them refused,
+// hover its peak in the histogram, click the candidate, move the slider one rail period up, undo, click the peak),
+// switch the detector; check the console stayed clean, and save demo_web/screenshot.png. Prints one line per check and ends with "e2e: N passed, M failed".
 // Usage: node demo_web/tests/e2e.mjs  (exit code 1 on any failure)
 import fs from 'node:fs';
 import os from 'node:os';
@@ -281,21 +282,57 @@ try {
     console.log(`skip - a real model from disk: ${realModel} is absent`);
   }
 
-  // 8. Candidates: the 2-pin header (a bundled sample with pins = 2) repeats only once, so nothing is principal,
-  // but its pitch (2.54 mm) is a pair candidate that one click makes resizable.
+  // 8. Two copies and candidates. The 2-pin header (a bundled sample with pins = 2) repeats only once, but its two
+  // pins pair vertex for vertex, so its pitch (2.54 mm) is principal offset 1 and the slider grows it at once. The
+  // fence's two rails are a pair too, but only a detail of the fence: a candidate, rejected by a pattern test, that
+  // one click makes principal (the fence then resizes along y, one rail-pair period of 0.55 m at a time).
   const isPitch = (v) => Math.abs(Math.abs(v[0]) - 2.54) < 2e-3 && Math.abs(v[1]) < 2e-3 && Math.abs(v[2]) < 2e-3;
-  let pitchCandidate = -1;
-  await attempt('the 2-pin header: no principal offset, the pitch listed as a candidate, the error points at it', async () => {
+  const isPicketPitch = (v) => Math.abs(Math.abs(v[0]) - 0.15) < 2e-3 && Math.abs(v[1]) < 2e-3 && Math.abs(v[2]) < 2e-3;
+  const isRail = (v) => Math.abs(v[0]) < 2e-3 && Math.abs(Math.abs(v[1]) - 0.55) < 2e-3 && Math.abs(v[2]) < 2e-3;
+  const fenceHeight = 1.19;  // the posts'
+  // Clicks the first slider (v1) at `steps` and waits for that result; its range is that of panel.js.
+  const clickFirstSlider = async (steps, cells) => {
+    const slider = page.locator('.lil-gui .lil-controller.lil-number .lil-slider').first();
+    const box = await slider.boundingBox();
+    const min = 1 - cells, max = Math.min(24, Math.max(6, 2 * cells));
+    await page.mouse.click(box.x + box.width * (steps - min) / (max - min), box.y + box.height / 2);
+    await page.waitForFunction((s) => window.restitchDemo.report && window.restitchDemo.report.steps_principal[0] === s,
+                               steps, { timeout: 30000 });
+    return page.evaluate(() => window.restitchDemo.report);
+  };
+  const firstSliderName = () => page.textContent('.lil-gui .lil-controller.lil-number .lil-name');
+  await attempt('the 2-pin header: its pitch is principal offset 1; the slider grows it to 3 pins (8.22 mm) without promotion', async () => {
     await settleAfter(() => page.evaluate(() => { window.restitchDemo.loadSample('pin_header', { pins: 2 }); }));
+    assert((await status()) === 'ready', `status ${await status()}: ${await page.textContent('#error')}`);
     const a = await page.evaluate(() => window.restitchDemo.analysis);
-    assert(a.principal_offsets.length === 0, `${a.principal_offsets.length} principal offsets`);
-    pitchCandidate = a.candidates.findIndex((c) => isPitch(c.offset));
-    assert(pitchCandidate >= 0, `candidates ${JSON.stringify(a.candidates)}`);
+    assert(a.principal_offsets.length === 1 && isPitch(a.principal_offsets[0]), JSON.stringify(a.principal_offsets));
+    assert(!a.candidates.some((c) => isPitch(c.offset)), `the pitch is a candidate: ${JSON.stringify(a.candidates)}`);
+    const before = (await page.evaluate(() => window.restitchDemo.result)).triangles;
+    const rep = await clickFirstSlider(1, a.lattice_cells[a.resizable.indexOf(true)]);
+    assert(rep.steps_principal.join() === '1', `steps_principal ${rep.steps_principal}`);
+    assert(Math.abs(rep.size_out[0] - 8.22) < 1e-3, `size out ${rep.size_out}`);
+    const name = await firstSliderName();
+    assert(/→ 8\.22 mm/.test(name), `the slider reads '${name}'`);
+    const after = (await page.evaluate(() => window.restitchDemo.result)).triangles;
+    assert(after > before, `${before} -> ${after} triangles`);
+    return `${rep.size_out[0].toFixed(2)} mm wide, ${before} -> ${after} triangles`;
+  });
+  let railCandidate = -1;
+  await attempt('the fence: one principal offset, its rails listed as a candidate; a resize along v2 is refused in words', async () => {
+    await settleAfter(() => page.evaluate(() => { window.restitchDemo.loadSample('fence', {}); }));
+    assert((await status()) === 'ready', `status ${await status()}: ${await page.textContent('#error')}`);
+    const a = await page.evaluate(() => window.restitchDemo.analysis);
+    assert(a.principal_offsets.length === 1 && isPicketPitch(a.principal_offsets[0]), JSON.stringify(a.principal_offsets));
+    railCandidate = a.candidates.findIndex((c) => isRail(c.offset));
+    assert(railCandidate >= 0, `candidates ${JSON.stringify(a.candidates)}`);
+    const label = await page.textContent(`[data-candidate="${railCandidate}"]`);
+    assert(/0\.550.*2 copies.*pair/.test(label), `the button reads '${label}'`);
+    const refused = await page.evaluate(() => window.restitchDemo.setSteps([0, 1, 0]).then(() => null, (e) => e.message));
+    assert(refused && /the model has 1 principal offset/.test(refused), `setSteps([0, 1, 0]) gave ${refused}`);
     assert((await status()) === 'error', `status ${await status()}`);
-    assert(/candidate/.test(await page.textContent('#error')), await page.textContent('#error'));
-    const label = await page.textContent(`[data-candidate="${pitchCandidate}"]`);
-    assert(/2\.54.*2 copies.*pair/.test(label), `the button reads '${label}'`);
-    return label.trim();
+    const text = await page.textContent('#error');
+    assert(await page.isVisible('#error') && /^Resize failed: the model has 1 principal offset/.test(text), `error text: ${text}`);
+    return `${label.trim()}; ${text}`;
   });
   const peakOf = async (candidate) => {
     const peaks = await page.evaluate(() => window.restitchDemo.histogramPeaks());
@@ -303,57 +340,60 @@ try {
     assert(p, `no peak for candidate ${candidate} in ${JSON.stringify(peaks)}`);
     return p;
   };
-  await attempt('hovering the candidate\'s peak in the histogram shows its tests and why it was rejected', async () => {
-    const p = await peakOf(pitchCandidate);
+  await attempt('hovering the rails\' candidate\'s peak in the histogram shows its tests and why it was rejected', async () => {
+    const p = await peakOf(railCandidate);
     await page.mouse.move(p.x + 60, p.y - 60);
     await page.mouse.move(p.x, p.y, { steps: 4 });
     await page.waitForSelector('#peak-tip:not([hidden])', { timeout: 5000 });
     const text = await page.innerText('#peak-tip');
     for (const want of [/dominant offset \d+: \(/, /votes/, /overlap/, /passed/, /FAILED/, /rejected by \w+/, /divisor 1/,
-                        /not promoted/, /click to resize along it/])
+                        /not promoted/, /\(pair, 2 copies\): click to resize along it/])
       assert(want.test(text), `${want} not in '${text}'`);
     await page.mouse.move(p.x + 120, p.y - 120);
     await page.waitForSelector('#peak-tip', { state: 'hidden', timeout: 5000 });
     return text.match(/rejected by \w+/)[0];
   });
-  await attempt('clicking the candidate makes it principal; the slider grows the header to 3 pins (8.22 mm)', async () => {
+  await attempt('clicking the candidate makes it principal offset 1; the slider grows the fence by one rail period (1.19 -> 1.74 m)', async () => {
     const before = (await page.evaluate(() => window.restitchDemo.result)).triangles;
-    await page.locator(`[data-candidate="${pitchCandidate}"] button`).click();
+    await page.locator(`[data-candidate="${railCandidate}"] button`).click();
     await waitStatus(['ready']);
     const a = await page.evaluate(() => window.restitchDemo.analysis);
-    assert(a.principal_offsets.length === 1 && isPitch(a.principal_offsets[0]), JSON.stringify(a.principal_offsets));
+    assert(a.principal_offsets.length === 2 && isRail(a.principal_offsets[0]) && isPicketPitch(a.principal_offsets[1]),
+           JSON.stringify(a.principal_offsets));
     assert(await page.isHidden('#error'), 'the error is still shown');
-    const slider = page.locator('.lil-gui .lil-controller.lil-number .lil-slider').first();
-    const box = await slider.boundingBox();
-    const cells = a.lattice_cells[a.resizable.indexOf(true)];
-    const min = 1 - cells, max = Math.min(24, Math.max(6, 2 * cells));
-    await page.mouse.click(box.x + box.width * (1 - min) / (max - min), box.y + box.height / 2);
-    await page.waitForFunction(() => window.restitchDemo.report, null, { timeout: 30000 });
-    const rep = await page.evaluate(() => window.restitchDemo.report);
-    assert(rep.steps_principal.join() === '1', `steps_principal ${rep.steps_principal}`);
-    assert(Math.abs(rep.size_out[0] - 8.22) < 1e-3, `size out ${rep.size_out}`);
+    const sliders = await page.locator('.lil-gui .lil-controller.lil-number .lil-slider').count();
+    assert(sliders === 2, `${sliders} sliders`);
+    const rep = await clickFirstSlider(1, a.lattice_cells[a.resizable.indexOf(true)]);
+    assert(rep.steps_principal.join() === '1,0', `steps_principal ${rep.steps_principal}`);
+    const tall = fenceHeight + Math.hypot(...a.principal_offsets[0]);
+    assert(Math.abs(rep.size_out[1] - tall) < 1e-3 && Math.abs(rep.size_out[1] - 1.74) < 2e-3, `size out ${rep.size_out}`);
+    const name = await firstSliderName();
+    assert(/→ 1\.74 m/.test(name), `the slider reads '${name}'`);
     const after = (await page.evaluate(() => window.restitchDemo.result)).triangles;
     assert(after > before, `${before} -> ${after} triangles`);
-    return `${rep.size_out[0].toFixed(2)} mm wide, ${before} -> ${after} triangles`;
+    return `${rep.size_out[1].toFixed(2)} m tall, ${before} -> ${after} triangles`;
   });
   await attempt('\'detected offsets\' undoes the promotion; clicking the candidate\'s peak promotes it again', async () => {
     await page.locator('[data-detected] button').click();
-    await page.waitForFunction(() => window.restitchDemo.analysis.principal_offsets.length === 0 &&
-                               document.body.dataset.status === 'error', null, { timeout: 30000 });
-    assert((await page.evaluate(() => window.restitchDemo.promoted)).length === 0, 'still promoted');
+    await page.waitForFunction(() => window.restitchDemo.analysis.principal_offsets.length === 1 &&
+                               window.restitchDemo.promoted.length === 0, null, { timeout: 30000 });
+    assert((await status()) === 'ready', `status ${await status()}: the picket pitch still resizes`);
     assert((await page.evaluate(() => window.restitchDemo.report)) === null, 'the result is still shown');
+    const refused = await page.evaluate(() => window.restitchDemo.setSteps([0, 1, 0]).then(() => null, (e) => e.message));
+    assert(refused && /the model has 1 principal offset/.test(refused), `setSteps([0, 1, 0]) gave ${refused}`);
     await page.waitForTimeout(100);
-    const p = await peakOf(pitchCandidate);
+    const p = await peakOf(railCandidate);
     await page.mouse.move(p.x, p.y, { steps: 2 });
     await page.mouse.down();
     await page.mouse.up();
     await waitStatus(['ready'], 30000);
     const a = await page.evaluate(() => window.restitchDemo.analysis);
-    assert(a.principal_offsets.length === 1 && isPitch(a.principal_offsets[0]), JSON.stringify(a.principal_offsets));
+    assert(a.principal_offsets.length === 2 && isRail(a.principal_offsets[0]), JSON.stringify(a.principal_offsets));
     const r = await page.evaluate(() => window.restitchDemo.setSteps([2, 0, 0]));
     const rep = await page.evaluate(() => window.restitchDemo.report);
-    assert(Math.abs(rep.size_out[0] - (5.68 + 2 * 2.54)) < 1e-3, `size out ${rep.size_out}`);
-    return `4 pins: ${rep.size_out[0].toFixed(2)} mm, ${r.triangles} triangles`;
+    const tall = fenceHeight + 2 * Math.hypot(...a.principal_offsets[0]);
+    assert(Math.abs(rep.size_out[1] - tall) < 2e-3, `size out ${rep.size_out}, expected ${tall} tall`);
+    return `two more rail periods: ${rep.size_out[1].toFixed(2)} m, ${r.triangles} triangles`;
   });
 
   await attempt('the detector choice re-analyses with autocorrelation (the promotion is dropped)', async () => {

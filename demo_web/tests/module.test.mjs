@@ -60,7 +60,10 @@ const shelfAnalysis = shelf.analyze('shot', 'reduced', (stage, f) => progress.pu
 
 test('the module lists its samples and policies', () => {
   const names = restitch.samples().map((s) => s.name);
-  assert.deepEqual(names, ['bookshelf', 'facade', 'facade_sheared', 'fence', 'pin_header']);
+  // The library's catalog (restitch/families/families.hpp), in its alphabetical order: the plain families and
+  // those with structure around the repeat (restitch/families/structured.hpp).
+  assert.deepEqual(names, ['bookshelf', 'box_header', 'cabinet', 'connector', 'facade', 'facade_sheared', 'fence',
+                           'pin_header', 'radiator', 'railing', 'shutter']);
   const p = restitch.policies();
   // The library's lists (restitch/runtime.hpp), the default first: the page preselects the first.
   assert.deepEqual(p.descriptors, ['shot', 'fpfh']);
@@ -290,56 +293,116 @@ test('the same requests give the same bytes; the reduced matcher gives what brut
   }
 });
 
-// The x extent of a mesh's positions.
-function xSize(mesh) {
+// The extent of a mesh's positions along world axis k (0: x, 1: y, 2: z).
+function extent(mesh, k) {
   let lo = Infinity, hi = -Infinity;
-  for (let i = 0; i < mesh.positions.length; i += 3) {
+  for (let i = k; i < mesh.positions.length; i += 3) {
     lo = Math.min(lo, mesh.positions[i]);
     hi = Math.max(hi, mesh.positions[i]);
   }
   return hi - lo;
 }
+const xSize = (mesh) => extent(mesh, 0);
+const ySize = (mesh) => extent(mesh, 1);
+// The pin header's pitch, 2.54 mm along x.
 const isPitch = (v) => near(Math.abs(v[0]), 2.54, 2e-3) && near(v[1], 0, 2e-3) && near(v[2], 0, 2e-3);
+// The fence (default parameters): its pickets' pitch, 0.15 m along x, and the offset between its two rails,
+// 0.55 m along y (rails centred at 0.2 and 0.75 of the 1 m pickets). The fence stands 1.19 m tall (its posts).
+const isPicketPitch = (v) => near(Math.abs(v[0]), 0.15, 2e-3) && near(v[1], 0, 2e-3) && near(v[2], 0, 2e-3);
+const isRail = (v) => near(v[0], 0, 2e-3) && near(Math.abs(v[1]), 0.55, 2e-3) && near(v[2], 0, 2e-3);
+const fenceHeight = 1.19;
 
-test('the 2-pin header: no principal offset but a pair candidate; promoting it resizes to 3 pins, [] undoes it', () => {
+test('the 2-pin header: its pitch is principal offset 1 (two exact copies), a resize grows it to 3 pins without promotion', () => {
   const s = new restitch.Session();
   try {
-    assert.equal(s.promote([[2.54, 0, 0]]).code, 'invalid_argument', 'promotion before any analysis');
     const info = s.loadSample('pin_header', { pins: 2 });
     assert.ok(near(info.bbox_max[0] - info.bbox_min[0], 5.68, 1e-4), 'two pitches of 2.54 mm plus the ends');
     const r = s.analyze('shot', 'brute_force', null);
     assert.equal(r.ok, true, r.message);
     const a = r.analysis;
-    assert.deepEqual(a.principal_offsets, [], 'two pins are no pattern by themselves');
-    assert.equal(s.retarget(1, 0, 0, 'lattice').code, 'no_repetition');
-    const c = a.candidates.find((k) => isPitch(k.offset));
-    assert.ok(c, `the pitch among the candidates ${JSON.stringify(a.candidates)}`);
-    assert.equal(c.reason, 'pair');
-    assert.equal(c.copies, 2);
-    const d = a.dominant_offsets[c.dominant];
-    assert.ok(isPitch(d.offset), 'the candidate names its dominant offset');
-    assert.equal(d.significant, false);
-    assert.equal(d.rejected_by, d.tests.find((t) => !t.passed).name);
+    assert.equal(a.principal_offsets.length, 1, JSON.stringify(a.principal_offsets));
+    assert.ok(isPitch(a.principal_offsets[0]), `the pitch is principal offset 1: ${JSON.stringify(a.principal_offsets)}`);
+    assert.ok(!a.candidates.some((k) => isPitch(k.offset)), `the pitch is no candidate: ${JSON.stringify(a.candidates)}`);
+    // docs/method.md 1.13: significant by the two-copies tests, not promoted by hand.
+    const d = a.dominant_offsets.find((x) => isPitch(x.offset));
+    assert.ok(d, 'the pitch is a dominant offset');
+    assert.equal(d.significant, true);
+    assert.equal(d.rejected_by, null);
+    assert.equal(d.promoted, false);
+    for (const name of ['pair_exact_vertices', 'pair_exact_area', 'pair_third_copy'])
+      assert.ok(d.tests.some((t) => t.name === name && t.passed), `${name} passed: ${JSON.stringify(d.tests)}`);
+    assert.equal(a.lattice_cells[a.resizable.indexOf(true)], 2, 'two cells along the pitch');
 
-    const p = s.promote([c.offset]);
-    assert.equal(p.ok, true, p.message);
-    assert.equal(p.analysis.principal_offsets.length, 1);
-    assert.ok(isPitch(p.analysis.principal_offsets[0]), JSON.stringify(p.analysis.principal_offsets));
-    assert.equal(p.analysis.dominant_offsets[c.dominant].promoted, true);
-    assert.equal(p.analysis.lattice_cells[p.analysis.resizable.indexOf(true)], 2, 'two cells along the pitch');
-    assert.equal(p.extras.dominant_normalized.length, p.analysis.dominant_offsets.length);
     const t = s.retarget(1, 0, 0, 'lattice');
     assert.equal(t.ok, true, t.message);
     assert.deepEqual(t.report.steps_principal, [1]);
     assert.ok(near(xSize(s.mesh('result')), 8.22, 1e-3), `3 pins: ${xSize(s.mesh('result'))} mm, expected 8.22`);
     assert.ok(near(t.report.size_out[0], 8.22, 1e-3), `size_out ${t.report.size_out}`);
+    assert.ok(t.report.output.triangles > info.triangles);
+    const second = s.retarget(0, 1, 0, 'lattice');
+    assert.equal(second.code, 'invalid_argument', 'one principal offset only');
+    assert.match(second.message, /1 principal offset/);
+  } finally {
+    s.delete();
+  }
+});
+
+test('the fence: its two rails are a pair candidate with the failed test named; promoting it resizes along y, [] undoes it', () => {
+  const s = new restitch.Session();
+  try {
+    assert.equal(s.promote([[0, 0.55, 0]]).code, 'invalid_argument', 'promotion before any analysis');
+    const info = s.loadSample('fence', {});
+    assert.ok(near(info.bbox_max[1] - info.bbox_min[1], fenceHeight, 1e-4), `height ${info.bbox_max[1] - info.bbox_min[1]}`);
+    const r = s.analyze('shot', 'brute_force', null);
+    assert.equal(r.ok, true, r.message);
+    const a = r.analysis;
+    assert.equal(a.principal_offsets.length, 1, JSON.stringify(a.principal_offsets));
+    assert.ok(isPicketPitch(a.principal_offsets[0]), JSON.stringify(a.principal_offsets));
+    // A size change along y (a step along a second principal offset) is refused in words before the promotion.
+    const refused = s.retarget(0, 1, 0, 'lattice');
+    assert.equal(refused.code, 'invalid_argument');
+    assert.match(refused.message, /the model has 1 principal offset/);
+    const c = a.candidates.find((k) => isRail(k.offset));
+    assert.ok(c, `the rails' offset among the candidates ${JSON.stringify(a.candidates)}`);
+    assert.equal(c.reason, 'pair');
+    assert.equal(c.copies, 2);
+    const d = a.dominant_offsets[c.dominant];
+    assert.ok(isRail(d.offset), 'the candidate names its dominant offset');
+    assert.equal(d.significant, false);
+    assert.ok(d.rejected_by, 'a test rejected it');
+    assert.equal(d.rejected_by, d.tests.find((t) => !t.passed).name, 'the first failed test');
+    assert.ok(!d.tests.some((t) => t.name.startsWith('pair_') && t.passed), 'the two-copies rule did not pass it');
+
+    const p = s.promote([c.offset]);
+    assert.equal(p.ok, true, p.message);
+    const q = p.analysis;
+    assert.equal(q.principal_offsets.length, 2, JSON.stringify(q.principal_offsets));
+    assert.ok(isRail(q.principal_offsets[0]), 'the promoted offset comes first');
+    assert.ok(isPicketPitch(q.principal_offsets[1]), 'the detected one after it');
+    assert.equal(q.dominant_offsets[c.dominant].promoted, true);
+    assert.ok(!q.candidates.some((k) => isRail(k.offset)), 'no longer a candidate');
+    const axes = [0, 1, 2].filter((k) => q.resizable[k]);
+    assert.equal(q.lattice_cells[axes[0]], 2, 'two cells along the rails\' offset');
+    assert.equal(p.extras.dominant_normalized.length, q.dominant_offsets.length);
+    const t = s.retarget(1, 0, 0, 'lattice');
+    assert.equal(t.ok, true, t.message);
+    assert.deepEqual(t.report.steps_principal, [1, 0]);
+    const tall = fenceHeight + Math.hypot(...c.offset);  // about 1.74 m: one more rail-pair period
+    assert.ok(near(t.report.size_out[1], tall, 1e-3), `size_out ${t.report.size_out}, expected ${tall} tall`);
+    assert.ok(near(ySize(s.mesh('result')), tall, 1e-3), `${ySize(s.mesh('result'))} m tall`);
+    assert.ok(near(t.report.size_out[0], t.report.size_in[0], 1e-3), 'as wide as before');
+    const wider = s.retarget(0, 1, 0, 'lattice');  // the pickets' pitch is principal offset 2 now
+    assert.equal(wider.ok, true, wider.message);
+    assert.ok(near(wider.report.size_out[0] - wider.report.size_in[0], 0.15, 1e-3), `size_out ${wider.report.size_out}`);
 
     const back = s.promote([]);
     assert.equal(back.ok, true, back.message);
-    assert.deepEqual(back.analysis.principal_offsets, [], 'the detected offsets again');
+    assert.equal(back.analysis.principal_offsets.length, 1, 'the detected offset again');
+    assert.ok(isPicketPitch(back.analysis.principal_offsets[0]));
     assert.ok(back.analysis.dominant_offsets.every((x) => !x.promoted));
+    assert.ok(back.analysis.candidates.some((k) => isRail(k.offset)), 'a candidate again');
     assert.equal(s.mesh('result').ok, false, 'the result of the promoted offsets is gone');
-    assert.equal(s.retarget(1, 0, 0, 'lattice').code, 'no_repetition');
+    assert.match(s.retarget(0, 1, 0, 'lattice').message, /the model has 1 principal offset/);
   } finally {
     s.delete();
   }
@@ -348,9 +411,10 @@ test('the 2-pin header: no principal offset but a pair candidate; promoting it r
 test('a refused promotion leaves the analysis and the last result as they were', () => {
   const s = new restitch.Session();
   try {
-    s.loadSample('pin_header', { pins: 2 });
+    s.loadSample('fence', {});
     const a = s.analyze('shot', 'brute_force', null).analysis;
-    const c = a.candidates.find((k) => isPitch(k.offset));
+    const c = a.candidates.find((k) => isRail(k.offset));
+    assert.ok(c, JSON.stringify(a.candidates));
     const p = s.promote([c.offset]);
     assert.equal(p.ok, true, p.message);
     const before = s.retarget(1, 0, 0, 'lattice');
@@ -386,29 +450,45 @@ async function inProcessWorker() {
   };
 }
 
-test('the page\'s session through worker.js: the 2-pin header\'s candidate promoted, a resize to 3 pins', async () => {
+test('the page\'s session through worker.js: the 2-pin header resizes to 3 pins; the fence\'s rail candidate promoted, a resize along y', async () => {
   const session = new PageSession(new WorkerClient(await inProcessWorker()),
                                   { policy: () => ({ descriptor: 'shot', matcher: 'brute_force', detector: 'histogram' }) });
   const catalog = await session.start();
   assert.deepEqual(catalog.policies.detectors, ['histogram', 'autocorrelation']);
+  // The 2-pin header: ready as analysed, its pitch principal offset 1.
   await session.load({ sample: { name: 'pin_header', params: { pins: 2 } } });
+  assert.equal(session.state.status, 'ready', session.state.error);
+  assert.ok(isPitch(session.state.analysis.principal_offsets[0]), JSON.stringify(session.state.analysis.principal_offsets));
+  await session.resize([1, 0, 0], 'lattice');
+  assert.ok(near(xSize(session.state.retarget.mesh), 8.22, 1e-3), `${xSize(session.state.retarget.mesh)} mm`);
+
+  // The fence: one principal offset, so a step along a second is refused in words (the error state), until the
+  // rails' candidate is promoted.
+  await session.load({ sample: { name: 'fence', params: {} } });
+  assert.equal(session.state.status, 'ready', session.state.error);
+  assert.equal(session.state.analysis.principal_offsets.length, 1);
+  await assert.rejects(session.resize([0, 1, 0], 'lattice'), /the model has 1 principal offset/);
   assert.equal(session.state.status, 'error');
-  assert.match(session.state.error, /candidate/);
-  const c = session.state.analysis.candidates.find((k) => isPitch(k.offset));
+  assert.match(session.state.error, /^Resize failed: the model has 1 principal offset/);
+  const c = session.state.analysis.candidates.find((k) => isRail(k.offset));
   assert.ok(c, JSON.stringify(session.state.analysis.candidates));
   const detected = session.state.analysis;
   await assert.rejects(session.promote([c.offset, c.offset]), /too close in direction/);
   assert.equal(session.state.analysis, detected, 'a refused promotion changes nothing');
   const a = await session.promote([c.offset]);
-  assert.ok(isPitch(a.principal_offsets[0]));
+  assert.ok(isRail(a.principal_offsets[0]));
   assert.equal(session.state.status, 'ready');
+  assert.equal(session.state.error, '');
   const shown = await session.resize([1, 0, 0], 'lattice');
-  assert.ok(near(xSize(session.state.retarget.mesh), 8.22, 1e-3), `${xSize(session.state.retarget.mesh)} mm`);
+  const tall = fenceHeight + Math.hypot(...c.offset);
+  assert.ok(near(ySize(session.state.retarget.mesh), tall, 1e-3), `${ySize(session.state.retarget.mesh)} m, expected ${tall}`);
   assert.ok(shown.triangles > session.state.model.info.triangles);
   const back = await session.promote([]);
-  assert.deepEqual(back.principal_offsets, []);
-  assert.equal(session.state.status, 'error');
-  await assert.rejects(session.resize([1, 0, 0], 'lattice'), /repetition/);
+  assert.equal(back.principal_offsets.length, 1);
+  assert.ok(isPicketPitch(back.principal_offsets[0]));
+  assert.equal(session.state.status, 'ready', 'the detected offset still resizes');
+  assert.equal(session.state.retarget, null, 'the input is shown again');
+  await assert.rejects(session.resize([0, 1, 0], 'lattice'), /the model has 1 principal offset/);
 });
 
 test('the autocorrelation detector is a compiled choice; an unknown detector is refused in words', () => {

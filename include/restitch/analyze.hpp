@@ -51,7 +51,8 @@
 // Progress: the stages report under the names "sampling", "descriptors",
 // "matching", "histogram", "refinement", "lattice" (with the autocorrelation
 // detector: no "matching", "autocorrelation" for "histogram"); a callback returning false
-// cancels (StatusCode::cancelled). Never throws; deterministic; no threads.
+// cancels (StatusCode::cancelled). Never throws; deterministic: the same Analysis bit for bit whatever
+// AnalysisOptions::threads (1, the default, starts no thread).
 // Units: everything in Analysis is normalized except `lattice` (model units)
 // and `principal_model_units()`.
 //
@@ -83,6 +84,7 @@
 #include "restitch/descriptor/shot.hpp"
 #include "restitch/lattice/fit.hpp"
 #include "restitch/lattice/lattice.hpp"
+#include "restitch/lattice/structure.hpp"
 #include "restitch/matcher/brute_force.hpp"
 #include "restitch/matcher/matcher.hpp"
 #include "restitch/matcher/reduced.hpp"
@@ -176,6 +178,17 @@ struct AnalysisOptions {
   /// (docs/method.md 1.6.1), on samples `fine_spacing_ratio` times as far apart.
   bool find_short_periods = true;
   double fine_spacing_ratio = 0.5;
+  /// Check each principal offset against the model's structure (docs/method.md 1.12,
+  /// restitch/lattice/structure.hpp) and take a divisor of it, or a multiple of it, where that describes
+  /// the model better: the shortest t / m (m up to fundamental.max_divisor) whose copies pair vertex for
+  /// vertex and repeat as much of the model as t, or, where no two neighbouring cells of t are copies
+  /// (modules of two alternating parts), the shortest m t (m up to 4) at which some are.
+  bool verify_periods = true;
+  /// Make a pair (two copies: a candidate of reason "pair") significant when its copies are exact and make up
+  /// at least half of the model: a quarter of the vertices pair, and a quarter of the surface area is
+  /// triangles whose corners, moved by it, land on vertices (docs/method.md 1.13). As certain a repeat as a
+  /// pattern of five.
+  bool exact_pairs = true;
   /// Workers for the descriptors, the matching and the offset refinement (detail/parallel.hpp): 1
   /// runs on the calling thread alone, 0 on every hardware thread. analyze() gives this number to
   /// every policy that has a `threads` member (or a `significance.threads`, the shipped detectors),
@@ -415,6 +428,59 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
   for (std::size_t i = 0; i < a.dominant.size(); ++i)
     if (a.dominant[i].significant && !a.dominant[i].promoted)
       significant.push_back(a.dominant[i].offset), where.push_back(int(i));
+  // Two copies (docs/method.md 1.13): a pair whose copies are exact and make up half of the model (a quarter
+  // of the vertices pair, and a quarter of the surface is triangles whose corners, moved by it, land on
+  // vertices) is as certain as a pattern; after the patterns, and not when the significant offsets span it.
+  if (vertices && options.exact_pairs && vertices->rows() > 0 && mesh.F.rows() > 0) {
+    const std::vector<Eigen::Vector3d> basis = independent_offsets(significant, options.dense_spacing);
+    const double h = 4 * options.snap.end_radius;  // grid cell; a partner lies within end_radius
+    std::unique_ptr<CellChains> grid;                // the unique vertices by cell, built for the first pair
+    const auto cell = [h](const Eigen::Vector3d& p) {
+      return Cell{cell_index(p.x(), h), cell_index(p.y(), h), cell_index(p.z(), h)};
+    };
+    for (std::size_t i = 0; i < a.dominant.size(); ++i) {
+      DominantOffset& d = a.dominant[i];
+      if (d.promoted || !d.is_pair() || is_lattice_vector(d.offset, basis, nullptr, options.dense_spacing)) continue;
+      const SnapResult snapped = snap_offset(*vertices, d.offset, options.snap);
+      if (!snapped.snapped) continue;
+      const double queries = double(options.snap.max_queries > 0
+                                        ? std::min<std::size_t>(std::size_t(vertices->rows()), options.snap.max_queries)
+                                        : std::size_t(vertices->rows()));
+      if (!record_test(d.tests, "pair_exact_vertices", double(snapped.pairs) / queries, 0.25)) continue;
+      if (!grid) {
+        grid = std::make_unique<CellChains>(std::size_t(vertices->rows()));
+        for (Eigen::Index v = 0; v < vertices->rows(); ++v) grid->insert(cell(vertices->row(v).transpose()), std::int32_t(v));
+      }
+      const auto lands = [&](const Eigen::Vector3d& q) {
+        const double r2 = options.snap.end_radius * options.snap.end_radius;
+        bool hit = false;
+        grid->for_each_in(cell((q.array() - h).matrix()), cell((q.array() + h).matrix()), [&](std::int32_t v) {
+          hit = hit || (vertices->row(v).transpose() - q).squaredNorm() <= r2;
+        });
+        return hit;
+      };
+      double paired = 0, third = 0, total = 0;
+      const Eigen::Vector3d t = snapped.offset;
+      for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+        Eigen::Vector3d c[3];
+        for (int k = 0; k < 3; ++k)
+          c[k] = a.normalization.to_normalized(mesh.V.row(mesh.F(f, k)).template cast<double>().transpose());
+        const double area = (c[1] - c[0]).cross(c[2] - c[0]).norm();
+        total += area;
+        if (!(lands(c[0] + t) && lands(c[1] + t) && lands(c[2] + t))) continue;
+        paired += area;
+        if (lands(c[0] + 2 * t) && lands(c[1] + 2 * t) && lands(c[2] + 2 * t)) third += area;
+      }
+      if (!record_test(d.tests, "pair_exact_area", total > 0 ? paired / total : 0.0, 0.25)) continue;
+      // Two copies: what lands at t does not land again at 2 t (0 but by chance). A pattern of n >= 3 copies
+      // lands (n - 2) / (n - 1) >= 1/2 of it there, a slide along a surface tessellated in k equal rows
+      // (k - 2) / (k - 1); at most 1/4, halfway.
+      if (!record_test(d.tests, "pair_third_copy", paired > 0 ? third / paired : 0.0, 0.25, true)) continue;
+      d.offset = snapped.offset;
+      d.significant = true;
+      significant.push_back(d.offset), where.push_back(int(i));
+    }
+  }
   for (const Eigen::Vector3d& v : reduce_to_fundamentals(significant, options.dense_spacing)) promoted.push_back(v);
   a.axes = select_principal_offsets(promoted, options.min_angle, options.dummy_length);
   for (int& s : a.axes.source)
@@ -437,6 +503,86 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
   return {};
 }
 
+/// The model length the repeating slabs along lattice axis a cover (slabs x |v_a|), or -1 when the axis is
+/// undecided (restitch/lattice/structure.hpp).
+template <class = void>
+double repeated_length(const CellStructure& s, const Lattice& L, int a) {
+  if (s.undecided[std::size_t(a)]) return -1;
+  int repeating = 0;
+  for (int i = 0; i < L.cells[a]; ++i) repeating += s.repeats(a, i);
+  return repeating * L.A.col(a).norm();
+}
+
+/// docs/method.md 1.12: each principal offset t checked against the structure of the model on its
+/// lattice. Where no two neighbouring cells are copies (the axis is undecided), the shortest m t, m = 2..4,
+/// at which some are, with at least two cells; otherwise the shortest t / m, m = max_divisor..2, longer than
+/// the fundamental search's minimum, whose copies pair vertex for vertex (snap_offset), some of whose
+/// neighbouring cells are copies, whose repeating cells cover at least as much of the model as t's, one period of t aside (the ends' slabs fall
+/// differently), and which has no more parts that occur once than t. The first that qualifies replaces t (snapped), and the dominant offset it came from gets
+/// its divisor (or multiple) and a test record "structure_divisor" / "structure_multiple". `vertices`: the
+/// unique vertex positions (normalized); nothing is done without them.
+template <class D, class M, class Det>
+Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
+                      const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices, Analysis& a) {
+  if (!options.verify_periods || !vertices || a.axes.real_count == 0 || a.dense.size() == 0) return {};
+  std::unique_ptr<TriangleSurface> surface;
+  bool changed = false;
+  for (int k = 0; k < a.axes.real_count; ++k) {
+    if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
+    const CellStructure st = cell_structure(mesh, a, a.lattice, 0, surface.get());
+    const double have = repeated_length(st, a.lattice, k);
+    const Eigen::Vector3d t = a.axes.axes[std::size_t(k)];
+    const double extent = a.lattice.cells[k] * t.norm();  // the model's length along t, about
+    std::vector<int> factors;  // > 0: multiples, < 0: divisors
+    if (st.undecided[std::size_t(k)]) {
+      for (int m = 2; m <= 4; ++m)
+        if (2 * m * t.norm() <= extent + 1e-9) factors.push_back(m);
+    } else {
+      for (int m = options.fundamental.max_divisor; m >= 2; --m)
+        if (t.norm() / m >= options.fundamental.min_length * options.dense_spacing) factors.push_back(-m);
+    }
+    for (const int f : factors) {
+      const Eigen::Vector3d guess = f > 0 ? Eigen::Vector3d(t * f) : Eigen::Vector3d(t / double(-f));
+      const SnapResult snapped = snap_offset(*vertices, guess, options.snap);
+      // Exactly m t or t / m: t is exact to the snap's end radius, so its multiple or divisor is to (m + 1)
+      // of them; the snap's start radius would take whatever pairs nearby (a pin's edge near half a pitch).
+      if (!snapped.snapped || (snapped.offset - guess).norm() > (std::abs(f) + 1) * options.snap.end_radius) continue;
+      PrincipalOffsets axes = a.axes;
+      axes.axes[std::size_t(k)] = snapped.offset;
+      complete_with_dummies(axes, options.dummy_length);
+      Result<LatticeFit> fit = fit_lattice(mesh, a.normalization, a.dense, axes, options.lattice);
+      if (!fit) return fit.status();
+      const CellStructure there = cell_structure(mesh, a, fit->lattice, 0, surface.get());
+      const double got = repeated_length(there, fit->lattice, k);
+      const auto parts_along = [k](const CellStructure& c) {
+        return std::count_if(c.parts.begin(), c.parts.end(), [k](const SingularPart& p) { return p.axis == k; });
+      };
+      // A divisor explains as much of the model as t did, with no more parts that occur once (a third of a
+      // pitch over a wall subdivided in thirds repeats the wall but makes every pin a part of its own).
+      // Either must make some neighbouring cells copies (an axis too short to compare any is no answer).
+      if (!(got > 0) ||
+          (f < 0 && (got < have - t.norm() / a.normalization.scale || parts_along(there) > parts_along(st))))
+        continue;
+      a.axes = axes;
+      a.principal[std::size_t(k)] = snapped.offset;
+      a.lattice = fit->lattice;
+      a.A_normalized = fit->A_normalized;
+      a.origin_normalized = fit->origin_normalized;
+      a.phase = fit->phase;
+      if (const int i = a.axes.source[std::size_t(k)]; i >= 0) {
+        DominantOffset& d = a.dominant[std::size_t(i)];
+        d.offset = snapped.offset;
+        record_test(d.tests, f > 0 ? "structure_multiple" : "structure_divisor", std::abs(f), 2);
+        d.divisor = f > 0 ? d.divisor : d.divisor * -f;
+      }
+      changed = true;
+      break;
+    }
+  }
+  if (changed) collect_candidates(options.dense_spacing, a);
+  return {};
+}
+
 /// Stage "lattice": significant dominant offsets reduced to their fundamental periods, then select_and_fit.
 template <class D, class M, class Det>
 Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options, Analysis& a) {
@@ -444,7 +590,8 @@ Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>&
   if (options.snap_to_vertices) P = unique_normalized_vertices(mesh, a.normalization);
   reduce_to_fundamental_periods(options, options.snap_to_vertices ? &P : nullptr, a);
   RESTITCH_TRY(find_short_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, a));
-  return select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, a);
+  RESTITCH_TRY(select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, a));
+  return verify_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, a);
 }
 
 /// The vertex features of an analysis (features [sampled_features, end)): the ICP anchors.

@@ -195,22 +195,38 @@ expect 0 "$bin" resize "$work/shelf.glb" -o "$work/shelf-ac+.glb" --steps 1,1 --
 validate "$work/shelf-ac+.glb"
 expect 2 "$bin" analyze "$work/shelf.glb" --detector fourier
 
-# Candidates: a 2-pin header has no principal offset but its pair is a candidate; --verbose explains
-# the rejection; --size along x uses the candidate and says so; --offsets promotes it explicitly.
+# Two copies: a 2-pin header's pair of pins pairs vertex for vertex, so it is a principal offset
+# (docs/method.md 1.13); --verbose shows the pair tests; --size grows it into one 3-pin part.
 "$bin" sample pin_header --pins 2 -o "$work/pins2.glb" >/dev/null
 expect 0 "$bin" analyze "$work/pins2.glb" --verbose --json "$work/pins2.json"
-grep -q "candidate 1: (2.54, 0, 0).*a pair (2 copies).*--offsets 2.54,0,0" "$work/out" && ok || bad "analyze: the pair candidate is not listed: $(cat "$work/out")"
+grep -q "principal offset 1: (2.54, 0, 0)" "$work/out" && ok || bad "analyze: the exact pair is not principal: $(cat "$work/out")"
+grep -Eq "pair_third_copy +[0-9.e-]+ <= 0\.25 +passed" "$work/out" && ok || bad "analyze --verbose: no pair test line with value and threshold"
+node -e '
+const j = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
+const p = j.principal_offsets;
+if (p.length !== 1 || Math.abs(p[0][0] - 2.54) > 1e-3) process.exit(1);
+if (!j.dominant_offsets.some(d => d.tests.some(t => t.name === "pair_exact_area" && t.passed))) process.exit(1);' "$work/pins2.json" && ok || bad "analyze --json: the pair is not principal with its tests in $work/pins2.json"
+expect 0 "$bin" resize "$work/pins2.glb" -o "$work/pins2to3.glb" --size 8.22,0,0 --json "$work/pins2to3.json"
+[ "$(json_field size_out < "$work/pins2to3.json" | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8"))[0].toFixed(3))')" = 8.220 ] && ok || bad "resize --size along the pair: wrong size"
+validate "$work/pins2to3.glb"
+# Candidates: a fence's two rails are a pair that is a detail of the whole (docs/method.md 1.13), so a
+# candidate: --verbose explains the rejection, --size along y uses the candidate (one more period:
+# 1.19 -> 1.74 tall) and says so.
+"$bin" sample fence -o "$work/fence.glb" >/dev/null
+expect 0 "$bin" analyze "$work/fence.glb" --verbose --json "$work/fence.json"
+grep -q "candidate 1: (0, 0.55, 0).*a pair (2 copies).*--offsets 0,0.55,0" "$work/out" && ok || bad "analyze: the pair candidate is not listed: $(cat "$work/out")"
 grep -q "rejected by repeat" "$work/out" && ok || bad "analyze --verbose: no rejection explained"
 grep -Eq "repeat +0\.[0-9]+ >= 0\.25 +FAILED" "$work/out" && ok || bad "analyze --verbose: no test line with value and threshold"
 node -e '
 const j = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
 const c = j.candidates[0], d = j.dominant_offsets[c.dominant];
-if (j.principal_offsets.length !== 0 || c.copies !== 2 || c.reason !== "pair" || Math.abs(c.offset[0] - 2.54) > 1e-3) process.exit(1);
-if (d.rejected_by !== "repeat" || d.tests.at(-1).passed || !(d.tests.at(-1).value < d.tests.at(-1).threshold)) process.exit(1);' "$work/pins2.json" && ok || bad "analyze --json: candidates or tests wrong in $work/pins2.json"
-expect 0 "$bin" resize "$work/pins2.glb" -o "$work/pins2to3.glb" --size 8.22,0,0 --json "$work/pins2to3.json"
-grep -q "no principal offset runs along x: using candidate 1" "$work/out" && ok || bad "resize --size: the candidate fallback is not reported"
-[ "$(json_field size_out < "$work/pins2to3.json" | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8"))[0].toFixed(3))')" = 8.220 ] && ok || bad "resize --size along a candidate: wrong size"
-validate "$work/pins2to3.glb"
+if (j.principal_offsets.length !== 1 || c.copies !== 2 || c.reason !== "pair" || Math.abs(c.offset[1] - 0.55) > 1e-3) process.exit(1);
+const last = d.tests.at(-1);
+if (last.passed || !(last.at_most ? last.value > last.threshold : last.value < last.threshold)) process.exit(1);' "$work/fence.json" && ok || bad "analyze --json: candidates or tests wrong in $work/fence.json"
+expect 0 "$bin" resize "$work/fence.glb" -o "$work/fence-tall.glb" --size 0,1.74,0 --json "$work/fence-tall.json"
+grep -q "no principal offset runs along y: using candidate 1" "$work/out" && ok || bad "resize --size: the candidate fallback is not reported"
+[ "$(json_field size_out < "$work/fence-tall.json" | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8"))[1].toFixed(2))')" = 1.74 ] && ok || bad "resize --size along a candidate: wrong size"
+validate "$work/fence-tall.glb"
 expect 0 "$bin" resize "$work/pins2.glb" -o "$work/pins2to4.glb" --offsets 2.5,0,0 --steps 2 --json "$work/pins2to4.json"
 [ "$(json_field size_out < "$work/pins2to4.json" | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8"))[0].toFixed(3))')" = 10.760 ] && ok || bad "resize --offsets 2.5,0,0 --steps 2: not 4 pins long"
 expect_error 2 "triples" "$bin" analyze "$work/pins2.glb" --offsets 1,2
