@@ -78,7 +78,8 @@ TEST_CASE("fundamental_period: a divisor closer than the overlap radius to the n
 }
 
 // docs/method.md 1.6.1: a period under 3 dense spacings (2.5 here) is out of reach of the search
-// of 1.6; the analysis finds it on finer samples, from a multiple that is significant or a pair.
+// of 1.6; the analysis finds it on finer samples, from a multiple that is significant or a pair, and the
+// structure check of 1.12 from an exact multiple.
 TEST_CASE("short periods: 40 slats 2.5 dense spacings apart are found on finer samples", "[fundamental][analyze]") {
   const double pitch = 0.1, width = 4.0;  // normalized pitch 0.1 / (width / 2) = 0.05 < 3 x 0.02
   Mesh m;
@@ -102,7 +103,17 @@ TEST_CASE("short periods: 40 slats 2.5 dense spacings apart are found on finer s
   for (const DominantOffset& d : found->dominant)
     for (const OffsetTest& t : d.tests) fine = fine || (d.significant && t.name == "fine_divisor" && t.passed);
   CHECK(fine);
-  options.find_short_periods = false;  // without the finer search, the pitch is out of reach
+  // Without the finer search the structure still proves the pitch (an exact divisor of a multiple whose
+  // cells are copies, docs/method.md 1.12); without both it is out of reach.
+  options.find_short_periods = false;
+  auto structure = analyze(m, options);
+  REQUIRE(structure);
+  CHECK(has_pitch(*structure));
+  bool divided = false;
+  for (const DominantOffset& d : structure->dominant)
+    for (const OffsetTest& t : d.tests) divided = divided || (t.name == "structure_divisor" && t.passed);
+  CHECK(divided);
+  options.verify_periods = false;
   auto coarse = analyze(m, options);
   REQUIRE(coarse);
   CHECK_FALSE(has_pitch(*coarse));

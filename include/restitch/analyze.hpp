@@ -515,10 +515,10 @@ double repeated_length(const CellStructure& s, const Lattice& L, int a) {
 
 /// docs/method.md 1.12: each principal offset t checked against the structure of the model on its
 /// lattice. Where no two neighbouring cells are copies (the axis is undecided), the shortest m t, m = 2..4,
-/// at which some are, with at least two cells; otherwise the shortest t / m, m = max_divisor..2, longer than
-/// the fundamental search's minimum, whose copies pair vertex for vertex (snap_offset), some of whose
+/// at which some are, with at least two cells; otherwise the shortest t / m, m = max_divisor..2, at least
+/// one dense spacing long, whose copies pair vertex for vertex (snap_offset), some of whose
 /// neighbouring cells are copies, whose repeating cells cover at least as much of the model as t's, one period of t aside (the ends' slabs fall
-/// differently), and which has no more parts that occur once than t. The first that qualifies replaces t (snapped), and the dominant offset it came from gets
+/// differently), and which has no more parts that occur once inside the model (not at an end) than t. The first that qualifies replaces t (snapped), and the dominant offset it came from gets
 /// its divisor (or multiple) and a test record "structure_divisor" / "structure_multiple". `vertices`: the
 /// unique vertex positions (normalized); nothing is done without them.
 template <class D, class M, class Det>
@@ -539,7 +539,10 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
         if (2 * m * t.norm() <= extent + 1e-9) factors.push_back(m);
     } else {
       for (int m = options.fundamental.max_divisor; m >= 2; --m)
-        if (t.norm() / m >= options.fundamental.min_length * options.dense_spacing) factors.push_back(-m);
+        // At least one dense spacing: a slab that thin still holds samples of every surface crossing it (they
+        // lie a spacing apart), which the copy test needs; the overlap's bound (fundamental.min_length) is for
+        // tests on overlaps, and this one is exact.
+        if (t.norm() / m >= options.dense_spacing) factors.push_back(-m);
     }
     for (const int f : factors) {
       const Eigen::Vector3d guess = f > 0 ? Eigen::Vector3d(t * f) : Eigen::Vector3d(t / double(-f));
@@ -554,14 +557,19 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       if (!fit) return fit.status();
       const CellStructure there = cell_structure(mesh, a, fit->lattice, 0, surface.get());
       const double got = repeated_length(there, fit->lattice, k);
-      const auto parts_along = [k](const CellStructure& c) {
-        return std::count_if(c.parts.begin(), c.parts.end(), [k](const SingularPart& p) { return p.axis == k; });
+      // The parts along k inside the model (not holding an end slab: how the ends fall differs between
+      // lattices, a shutter's bottom rail takes two cells of its slat pitch and one of six pitches).
+      const auto inner_parts = [k](const CellStructure& c) {
+        return std::count_if(c.parts.begin(), c.parts.end(), [&](const SingularPart& p) {
+          return p.axis == k && p.first > 0 && p.last < c.cells[k] - 1;
+        });
       };
-      // A divisor explains as much of the model as t did, with no more parts that occur once (a third of a
-      // pitch over a wall subdivided in thirds repeats the wall but makes every pin a part of its own).
-      // Either must make some neighbouring cells copies (an axis too short to compare any is no answer).
+      // A divisor explains as much of the model as t did, with no more parts inside it (a third of a pitch
+      // over a wall subdivided in thirds repeats the wall but makes every pin a part of its own; a quarter of
+      // a bookshelf's column every divider). Either must make some neighbouring cells copies (an axis too
+      // short to compare any is no answer).
       if (!(got > 0) ||
-          (f < 0 && (got < have - t.norm() / a.normalization.scale || parts_along(there) > parts_along(st))))
+          (f < 0 && (got < have - t.norm() / a.normalization.scale || inner_parts(there) > inner_parts(st))))
         continue;
       a.axes = axes;
       a.principal[std::size_t(k)] = snapped.offset;
