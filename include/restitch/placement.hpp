@@ -17,7 +17,8 @@
 //           that repeats. So a connector whose housing reaches past pin 1
 //           at the origin keeps pin 1 where it was, whatever the grid phase.
 //           Without the structure (RetargetOptions::keep_parts off, the
-//           regular baseline) the cell holding it decides: the first cell
+//           regular baseline), or along an axis where no cell repeats, the
+//           cell holding it decides: the first cell
 //           keeps that end, the last cell the other, any other splits evenly.
 //           A single-cell axis keeps the end of the half the origin lies in.
 //   min     the end at the bounding box's minimum stays fixed.
@@ -143,7 +144,10 @@ Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& 
       case Pivot::origin: {
         const int n = L.cells[a];
         const int j = std::clamp(int(std::floor(c[a])), 0, n - 1);
-        if (structure && n > 1) {  // by content: the origin's part, or the nearer end of the model
+        // By content where the structure says what repeats along a (not along an undecided axis, or one too
+        // short to compare: there the cells decide, as without it).
+        const std::vector<int>* copies = structure && n > 1 ? &structure->copy_of[std::size_t(a)] : nullptr;
+        if (copies && std::any_of(copies->begin(), copies->end(), [](int i) { return i >= 0; })) {
           if (const SingularPart* p = structure->part_of(a, j))
             low = CellStructure::shift_of(*p, k);  // the part stays where it is
           else {
