@@ -1,6 +1,9 @@
 // Placement and exact sizes (restitch/placement.hpp, docs/method.md 2.7): the pivot stays put, growth goes
 // away from it in whole periods; a pin header whose pin 1 sits at the origin, resized, is the real part.
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include <functional>
 #include <map>
@@ -285,6 +288,24 @@ TEST_CASE("exact sizes: sizes are checked, 0 keeps an axis, and --exact scales a
   auto same = r.steps_for_size(Eigen::Vector3d(size.x() * (1 + 2e-6), size.y(), 0));
   REQUIRE(same.ok());
   CHECK((*same == 0).all());
+  // A size typed as a viewer shows it, rounded to 3 to 6 significant digits, is no change along an axis
+  // without a repeat; one off in the last place typed is a change, refused as above (to 5 digits: at 6 one in
+  // the last place is within the 1e-5 that is always no change).
+  const auto rounded = [](double x, int digits, int off) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.*e", digits - 1, x);  // d.ddd...e+XX: digits significant digits
+    const int exponent = int(std::floor(std::log10(std::abs(std::strtod(buf, nullptr)))));
+    return std::strtod(buf, nullptr) + off * std::pow(10.0, exponent - (digits - 1));
+  };
+  for (const int digits : {3, 4, 5, 6}) {
+    INFO(digits << " digits: " << rounded(size.y(), digits, 0) << " for " << size.y());
+    CHECK(r.steps_for_size(Eigen::Vector3d(0, rounded(size.y(), digits, 0), rounded(size.z(), digits, 0))).ok());
+    if (digits > 5) continue;
+    CHECK_FALSE(r.steps_for_size(Eigen::Vector3d(0, rounded(size.y(), digits, 1), 0)).ok());
+    CHECK_FALSE(r.steps_for_size(Eigen::Vector3d(0, 0, rounded(size.z(), digits, -1))).ok());
+  }
+  // Under 3 significant digits a typed number is no measurement: the nearest whole number is refused.
+  CHECK_FALSE(r.steps_for_size(Eigen::Vector3d(0, 0, std::round(size.z()) + (std::round(size.z()) == size.z()))).ok());
   // Nearest: 30 mm is between 11 pins (28.54) and 12 (31.08): 12 pins, unscaled.
   auto nearest = r.retarget_to_size(Eigen::Vector3d(30, 0, 0), false);
   REQUIRE(nearest.ok());

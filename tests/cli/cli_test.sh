@@ -148,6 +148,14 @@ expect_error 5 "no repeat runs along z" "$bin" resize "$work/pins.glb" -o "$work
 [ ! -e "$work/x.glb" ] && ok || bad "a refused --size left a file"
 expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-same.glb" --size 20.92,11.5,2.5
 grep -q "nearest achievable with steps 0" "$work/out" && ok || bad "--size equal to the current size is a change"
+# The current size as a viewer shows it, rounded to 4 significant digits, is no change along y and z (no
+# repeat runs there); one more in the last digit is refused.
+"$bin" resize "$work/pins.glb" -o "$work/pins-same.glb" --steps 0 --json "$work/pins-same.json" >/dev/null 2>&1
+shown=$(json_field size_in < "$work/pins-same.json" | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8")).map(v => Number(v.toPrecision(4))).join(","))')
+expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-same.glb" --size "$shown"
+grep -q "nearest achievable with steps 0" "$work/out" && ok || bad "--size $shown (the size rounded as shown) is a change"
+bumped=$(echo "$shown" | node -e 'const v=require("fs").readFileSync(0,"utf8").trim().split(",").map(Number); const e=Math.floor(Math.log10(v[1])); v[1]=Number((v[1]+Math.pow(10,e-3)).toPrecision(4)); console.log(v.join(","))')
+expect_error 5 "no repeat runs along y" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --size "$bumped"
 expect 2 "$bin" resize "$work/pins.glb" -o "$work/x.glb" --steps 1 --exact
 expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-exact.glb" --size 30,0,0 --exact --json "$work/pins-exact.json"
 grep -q "exact: 31.08 x 11.5 x 2.5 scaled by 0.965251 x 1 x 1 about the pivot" "$work/out" && ok || bad "resize --exact: no summary line: $(cat "$work/out")"

@@ -12,6 +12,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -102,15 +104,36 @@ Status check_size_values(const Eigen::Vector3d& target) {
   return {};
 }
 
+namespace detail {
+/// Whether `typed` is `size` written with as many significant digits as `typed` has (the fewest that
+/// give `typed` back), when that is 3 or more: 10.361 and 10.4 are 10.3606 as a viewer shows it, 10.5 is
+/// not, and 8 is not 8.04 (one digit is not a measurement).
+template <class = void>
+bool same_at_typed_precision(double typed, double size) {
+  if (!std::isfinite(typed) || !std::isfinite(size) || typed <= 0 || size <= 0) return false;
+  char a[40], b[40];
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(a, sizeof a, "%.*g", digits, typed);
+    if (std::strtod(a, nullptr) != typed) continue;
+    if (digits < 3) return false;
+    std::snprintf(b, sizeof b, "%.*g", digits, size);
+    return std::strcmp(a, b) == 0;
+  }
+  return false;
+}
+}  // namespace detail
+
 /// Per world axis: does `target` (0 keeps an axis) ask a model of bounding-box size `size` to change
-/// along it? Within 1e-5 of the current size (relative, at least 1e-8 of the box diagonal) is no change,
-/// so a size typed from a printed one is no change.
+/// along it? No change: within 1e-5 of the current size (relative, at least 1e-8 of the box diagonal),
+/// or the current size rounded to the significant digits typed, 3 or more (detail::same_at_typed_precision),
+/// so a size typed from a printed or displayed one is no change.
 template <class = void>
 std::array<bool, 3> size_changes(const Eigen::Vector3d& target, const Eigen::Vector3d& size) {
   std::array<bool, 3> out{{false, false, false}};
   for (int i = 0; i < 3; ++i)
-    out[std::size_t(i)] =
-        target[i] != 0 && !(std::abs(target[i] - size[i]) <= 1e-5 * std::max(size[i], 1e-3 * size.norm()));
+    out[std::size_t(i)] = target[i] != 0 &&
+                          !(std::abs(target[i] - size[i]) <= 1e-5 * std::max(size[i], 1e-3 * size.norm())) &&
+                          !detail::same_at_typed_precision(target[i], size[i]);
   return out;
 }
 
