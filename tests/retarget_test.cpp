@@ -873,3 +873,27 @@ TEST_CASE("SeamMrf::separable_labels: the best straight-seam labelling (brute fo
   REQUIRE(problem.ok());
   CHECK(restitch::energy(*problem, problem->separable_labels()) <= restitch::energy(*problem, problem->initial_labels()));
 }
+
+TEST_CASE("retarget: steps along the world axes and along the principal offsets reach the same lattice steps",
+          "[retarget][samples]") {
+  auto s = families::generate("bookshelf", {{"columns", 3}, {"shelves", 2}});
+  REQUIRE(s.ok());
+  auto a = analyze(s->mesh);
+  REQUIRE(a.ok());
+  REQUIRE(a->principal.size() == 2);
+  // Which principal offset runs along x, by its direction; the helpers must agree with it.
+  const int px = std::abs(a->principal[0].x()) > std::abs(a->principal[0].y()) ? 0 : 1;
+  std::vector<int> along(2, 0);
+  along[std::size_t(px)] = 2, along[std::size_t(1 - px)] = -1;  // +2 along x, -1 along y
+  auto world = lattice_steps_from_world(*a, Eigen::Array3i(2, -1, 0));
+  auto principal = lattice_steps_from_principal(*a, along);
+  REQUIRE(world.ok());
+  REQUIRE(principal.ok());
+  CHECK((*world == *principal).all());
+  for (int l = 0; l < 3; ++l)  // and each value sits on the lattice axis along that world axis
+    if ((*world)[l] != 0) CHECK(world_axis_of(a->lattice.A.col(l)) == ((*world)[l] == 2 ? 0 : 1));
+  auto z = lattice_steps_from_world(*a, Eigen::Array3i(0, 0, 1));
+  REQUIRE_FALSE(z.ok());
+  CHECK(z.status().code() == StatusCode::invalid_argument);
+  CHECK_THAT(z.status().message(), Catch::Contains("along z"));
+}
