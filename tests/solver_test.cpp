@@ -1108,6 +1108,13 @@ TEST_CASE("solver: malformed MRF files give clear errors", "[solver]") {
   const restitch::Result<TableMrf> missing = restitch::read_mrf(temp_path("does-not-exist.mrf"));
   CHECK(missing.status().code() == StatusCode::io_error);
 
+  // Many labels and no node nor edge is an empty problem, read without a table of labels squared (found by
+  // fuzz_mrf: 77777 labels asked for 48 GB).
+  const restitch::Result<TableMrf> wide = restitch::parse_mrf("restitch-mrf 1\nnodes 0 labels 77777 edges 0\n", "wide.mrf");
+  REQUIRE(wide.ok());
+  CHECK(wide->node_count() == 0);
+  CHECK(wide->label_count() == 77777);
+
   // The writer refuses what the reader would refuse, and leaves nothing behind.
   TableMrf p(1, 1);
   p.set_unary(0, 0, std::numeric_limits<double>::infinity());

@@ -255,7 +255,9 @@ Result<TableMrf> parse_mrf(std::string_view text, const std::string& path) {
                                " edges, more numbers than its " + std::to_string(text.size()) + " bytes can hold");
 
     TableMrf problem(static_cast<int>(n), static_cast<int>(m));
-    std::vector<double> row(static_cast<std::size_t>(m) * static_cast<std::size_t>(m));
+    // One unary row, or one pairwise table when there are edges (whose M^2 the bound above counted; without
+    // edges it did not, and 1e5 labels squared would ask for 80 GB).
+    std::vector<double> row(static_cast<std::size_t>(m) * static_cast<std::size_t>(edges > 0 ? m : 1));
     for (int i = 0; i < n; ++i) {
       RESTITCH_TRY(detail::read_row(lines, tok, static_cast<int>(m), row.data(),
                                     "the unary terms of node " + std::to_string(i)));
