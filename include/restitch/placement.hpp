@@ -159,7 +159,7 @@ Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& 
             while (first < n - 1 && !structure->repeats(a, first)) ++first;
             while (last > 0 && !structure->repeats(a, last)) --last;
             const bool next_to_end = j <= first || j >= last;
-            low = off <= structure->spacing[a] || (!next_to_end && off <= structure->centre_band[a]) ? split
+            low = off <= structure->spacing[a] || (!next_to_end && off <= structure->centre_band(a)) ? split
                   : to_low < to_high                                                                ? keep_low
                                                                                                     : keep_high;
           }

@@ -76,12 +76,13 @@ struct CellStructure {
   Eigen::Array3i cells = Eigen::Array3i::Ones();
   /// Per axis: the model's extent in canonical coordinates (its samples' lowest and highest).
   Eigen::Array3d extent_low = Eigen::Array3d::Zero(), extent_high = Eigen::Array3d::Zero();
-  /// Per axis: how far from the model's centre a centre still counts as the centre, in periods: half a
-  /// period (whole periods cannot tell closer) plus one sample spacing (how closely it is measured).
-  Eigen::Array3d centre_band = Eigen::Array3d::Constant(0.5);
   /// Per axis: one sample spacing in periods, how closely a position along the axis is measured.
   Eigen::Array3d spacing = Eigen::Array3d::Zero();
   double tolerance = 0;  ///< model units
+
+  /// How far from the model's centre along axis a a centre still counts as the centre, in periods: half a
+  /// period (whole periods cannot tell closer) plus one sample spacing (how closely it is measured).
+  double centre_band(int a) const { return 0.5 + spacing[a]; }
 
   /// Whether slab i along axis a repeats (true along an axis without a structure).
   bool repeats(int a, int i) const {
@@ -172,7 +173,6 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     }
     s.extent_low[a] = m0, s.extent_high[a] = m1;
     s.spacing[a] = spacing / v.norm();
-    s.centre_band[a] = 0.5 + s.spacing[a];
     // Slab i's samples moved by `shift` periods lie on the surface, and not in the model's end (where the
     // other slab is the end, not a copy, and nothing could be compared).
     const auto lands = [&](int i, int shift) {
@@ -258,7 +258,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         p.anchor = PartAnchor::low;
       else if (p.last == n - 1)
         p.anchor = PartAnchor::high;
-      else if (std::abs(p.offset) <= s.centre_band[a])
+      else if (std::abs(p.offset) <= s.centre_band(a))
         p.anchor = PartAnchor::centre;
       else
         p.anchor = to_low < to_high ? PartAnchor::low : PartAnchor::high;
