@@ -149,7 +149,9 @@ TEST_CASE("retarget_json: keys and values of a hand-made report", "[json]") {
   r.triangles_in = 555;
   r.triangles_out = 777;
   r.vertices_out = 999;
-  r.boundary_edges_counted = true;
+  r.checked = true;
+  r.boundary_edges_new = 2;
+  r.warnings.push_back({"open seam", "2 edge(s) of the output are open"});
   r.boundary_edges_in = 11;
   r.boundary_edges_out = 13;
   r.weld_tolerance = 8e-6;
@@ -195,6 +197,11 @@ TEST_CASE("retarget_json: keys and values of a hand-made report", "[json]") {
   CHECK(j["output"]["triangles"].get<std::size_t>() == 777);
   CHECK(j["boundary_edges"]["in"].get<std::size_t>() == 11);
   CHECK(j["boundary_edges"]["out"].get<std::size_t>() == 13);
+  CHECK(j["boundary_edges"]["new"].get<std::size_t>() == 2);
+  CHECK(j["checked"].get<bool>());
+  REQUIRE(j["warnings"].size() == 1);
+  CHECK(j["warnings"][0]["check"] == "open seam");
+  CHECK(j["warnings"][0]["message"] == "2 edge(s) of the output are open");
   CHECK(j["weld_tolerance"]["relative"].get<double>() == 8e-6);
   CHECK(j["weld_tolerance"]["measured"].get<bool>());
   CHECK(json::parse(j.dump()) == j);
@@ -226,12 +233,13 @@ TEST_CASE("analysis_json and retarget_json agree with a real analysis and resize
   auto steps = restitch::lattice_steps_from_principal(*a, {2});
   REQUIRE(steps.ok());
   restitch::RetargetOptions options;
-  options.boundary_edges = true;
   auto out = restitch::retarget(sample->mesh, *a, *steps, options);
   REQUIRE(out.ok());
   const json jr = restitch::retarget_json(out->report);
-  // Not counted unless asked: null.
-  CHECK(restitch::retarget_json(restitch::retarget(sample->mesh, *a, *steps)->report)["boundary_edges"].is_null());
+  // Not counted without the check: null.
+  restitch::RetargetOptions unchecked;
+  unchecked.check = false;
+  CHECK(restitch::retarget_json(restitch::retarget(sample->mesh, *a, *steps, unchecked)->report)["boundary_edges"].is_null());
   check_arr3(jr["steps"], *steps);
   check_arr3(jr["cells_in"], a->lattice.cells);
   check_arr3(jr["cells_out"], a->lattice.cells + *steps);  // one cell per repeat

@@ -112,7 +112,6 @@ TEST_CASE("models: the listed repeats longer than tau are found, and resizing al
     CHECK(found);
     // +2 and -1 steps along the first principal offset give a valid, larger and smaller model.
     RetargetOptions options;
-    options.boundary_edges = true;
     Retargeter<> r(*mesh, *a, options);
     const double length = bounding_box(*mesh).size().dot(a->principal_model_units()[0].normalized().cwiseAbs());
     for (const int k : {2, -1}) {
@@ -153,7 +152,6 @@ TEST_CASE("models: the weld tolerance is measured from the copies: the BlendSwap
     INFO(c.file);
     auto [mesh, a] = load_and_analyze(c.file);
     RetargetOptions options;
-    options.boundary_edges = true;
     Retargeter<> measured(mesh, a, options);
     options.measure_weld_tolerance = false;
     Retargeter<> fixed(mesh, a, options);

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <map>
+#include <set>
 
 #include "restitch/families/families.hpp"
 #include "restitch/io/gltf.hpp"
@@ -78,7 +79,6 @@ TEST_CASE("retarget: each sample family resized by k steps equals the family gen
     if (!families::generate(info.name)->parts.empty()) continue;  // the structured ones: structure_test.cpp
     const Prepared& p = prepared(info.name);
     RetargetOptions options;
-    options.boundary_edges = true;
     Retargeter<> r(p.sample.mesh, p.analysis, options);
     REQUIRE(r.status().ok());
     for (std::size_t g = 0; g < p.sample.generators.size(); ++g) {
@@ -126,7 +126,6 @@ TEST_CASE("retarget: the closed pin header stays closed, grown, shrunk and down 
     REQUIRE(a.ok());
     const Prepared p{std::move(*s), std::move(*a)};
     RetargetOptions options;
-    options.boundary_edges = true;
     Retargeter<> r(p.sample.mesh, p.analysis, options);
     REQUIRE(r.status().ok());
     for (const int k : {1, 3, -1, 1 - pins}) {  // the last: down to one pin (end caps)
@@ -167,7 +166,6 @@ TEST_CASE("retarget: copies that differ by less than the weld tolerance are weld
   for (const int k : {1, -1}) {
     INFO("steps " << k);
     RetargetOptions options;
-    options.boundary_edges = true;
     options.measure_weld_tolerance = false;
     auto open = Retargeter<>(noisy, p.analysis, options).retarget(steps_along(p, 0, k));
     REQUIRE(open.ok());
@@ -443,6 +441,13 @@ TEST_CASE("seam energy: the labelling problem is metric for Hausdorff and the so
 namespace {
 // A solver that labels every cell with the last label (the whole shift k): for a grown model the low end
 // then copies cells from outside the input (nothing), so its outer seam mismatches by a missing surface.
+// The report's warnings, one "check: message" per line ("" when the result passed every check).
+std::string said(const RetargetReport& r) {
+  std::string s;
+  for (const ResultWarning& w : r.warnings) s += w.check + ": " + w.message + "\n";
+  return s;
+}
+
 struct LastLabelSolver {
   template <class P>
   Status solve(const P& problem, std::vector<int>& labels, SolveReport& report, const Progress&) const {
@@ -489,7 +494,7 @@ TEST_CASE("retarget: with either seam energy the sample families at 3, 4 and 5 r
             // An exact result has no seam over the tolerance. (The fence shrunk to one picket warned until
             // the seam measure left out the part of a face an end cap covers: its post tops take the other
             // end's label and get their post from the cap; docs/method.md 2.8.)
-            CHECK(out->report.warnings == std::vector<std::string>{});
+            CHECK(said(out->report) == "");
           }
         }
       }
@@ -540,7 +545,7 @@ TEST_CASE("retarget: families at 2 repeats, along the generator promoted when it
       auto truth = families::generate(c.family, {{c.count, 2 + k}});
       REQUIRE(truth.ok());
       check_same_model(out->mesh, truth->mesh, open_check_of(c.family));
-      CHECK(out->report.warnings == std::vector<std::string>{});
+      CHECK(said(out->report) == "");
     }
     // Shrunk to one cell with the geometric energy: both ends' caps meet in that cell; no seam may be
     // reported as a missing surface (empty_mismatch) on this exact result (it was 4840 model units once),
@@ -561,7 +566,7 @@ TEST_CASE("retarget: families at 2 repeats, along the generator promoted when it
     // on an output one cell long (SeamMrf::build_unary: both ends are capped whatever the label).
     check_same_model(out->mesh, truth->mesh, open_check_of(c.family));
     CHECK(out->report.max_seam_mismatch < bounding_box(truth->mesh).size().norm());
-    CHECK(out->report.warnings == std::vector<std::string>{});
+    CHECK(said(out->report) == "");
   }
 }
 
@@ -611,7 +616,8 @@ TEST_CASE("retarget: every seam is measured on the geometry and reported; one ov
     CHECK(retarget_json(rep)["warnings"].empty());
     CHECK(retarget_json(rep)["seams"].size() == rep.seams.size());
   }
-  // A tolerance below the sampling noise: every seam that is not exactly 0 warns.
+  // A tolerance below the sampling noise puts seams over it, but the seam estimate warns of nothing: the
+  // result check looks at the result, which is exact.
   RetargetOptions tight;
   tight.seam_tolerance = 1e-9;
   auto out = retarget(p.sample.mesh, p.analysis, steps, tight);
@@ -619,17 +625,17 @@ TEST_CASE("retarget: every seam is measured on the geometry and reported; one ov
   std::size_t over = 0;
   for (const SeamReport& s : out->report.seams) over += s.mismatch > 1e-9;
   CHECK(over > 0);
-  REQUIRE(out->report.warnings.size() == over);
-  CHECK(out->report.warnings[0].find("seam between cell") == 0);
-  CHECK(out->report.warnings[0].find("model units (tolerance 1e-09)") != std::string::npos);
-  CHECK(retarget_json(out->report)["warnings"].size() == over);
-  // A labelling that leaves the low end empty: its outer seam misses the side panel, the largest mismatch.
+  CHECK(said(out->report) == "");
+  // A labelling that leaves the low end empty: its outer seam misses the side panel, the largest mismatch,
+  // and the check finds the output short of the size asked and its cut boards open.
   Retargeter<LatticeLabels, LastLabelSolver> bad(p.sample.mesh, p.analysis);
   auto b = bad.retarget(steps);
   REQUIRE(b.ok());
-  REQUIRE(!b->report.warnings.empty());
   CHECK(b->report.max_seam_mismatch == bad.slabs().empty_mismatch());
-  CHECK(b->report.warnings[0].find("the end of the model") != std::string::npos);
+  std::set<std::string> checks;
+  for (const ResultWarning& w : b->report.warnings) checks.insert(w.check);
+  CHECK(checks.count("size") == 1);
+  CHECK(checks.count("open seam") == 1);
 }
 
 namespace {
@@ -754,7 +760,6 @@ TEST_CASE("retarget: a vertex no face uses, however far away, changes nothing (f
   REQUIRE(a->principal.size() == b->principal.size());
   for (std::size_t i = 0; i < a->principal.size(); ++i) CHECK((a->principal[i] - b->principal[i]).norm() == 0);
   RetargetOptions o;
-  o.boundary_edges = true;
   Eigen::Array3i k = Eigen::Array3i::Zero();
   k[axis_of(a->lattice, Eigen::Vector3d::UnitX())] = 1;
   Result<RetargetResult> x = Retargeter<>(m, *a, o).retarget(k), y = Retargeter<>(far, *b, o).retarget(k);

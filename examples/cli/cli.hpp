@@ -24,7 +24,7 @@ enum ExitCode : int {
   exit_model = 4,      ///< the model is readable but unusable (empty, NaN, unsupported content)
   exit_request = 5,    ///< the request is refused (out of range, too many labels)
   exit_output = 6,     ///< the output cannot be written
-  exit_seam = 7,       ///< resize --strict: a seam mismatches by more than the tolerance (the output is written)
+  exit_flagged = 7,    ///< resize --strict: the result check flagged the result (the output is written)
   exit_internal = 70,  ///< a bug
 };
 

@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "restitch: resize man-made 3D models (shelves, facades, fences, connectors) along their repeats.\n"
       "Exit codes: 0 ok, 2 bad command line, 3 input unreadable, 4 model unusable,\n"
-      "5 request refused, 6 output not writable, 7 a seam over the tolerance (resize --strict),\n"
+      "5 request refused, 6 output not writable, 7 the result needs a look (resize --strict),\n"
       "70 internal error.",
       "restitch"};
   app.require_subcommand(1);

@@ -105,7 +105,10 @@ void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen
     std::printf("\n  kept once: cells %d-%d along axis %d (at the %s), moved %d cell(s)", part.first + 1, part.last + 1,
                 part.axis + 1, part_anchor_name(part.anchor), part.shift);
   std::printf("\n  wrote %s: %zu triangles in, %zu out\n", args.output.c_str(), rep.triangles_in, rep.triangles_out);
-  std::printf("  boundary edges (positions welded): %zu in, %zu out\n", rep.boundary_edges_in, rep.boundary_edges_out);
+  std::printf("  boundary edges (positions welded): %zu in, %zu out, %zu new\n", rep.boundary_edges_in,
+              rep.boundary_edges_out, rep.boundary_edges_new);
+  std::printf("  check: %s\n", rep.warnings.empty() ? "passed (no open seam, parts once, size as asked, no floating piece)"
+                                                     : (std::to_string(rep.warnings.size()) + " warning(s)").c_str());
   if (rep.weld_tolerance_measured)
     std::printf("  weld tolerance %.3g of the diagonal, measured: the copies' vertices coincide to that (docs/method.md 3)\n",
                 rep.weld_tolerance);
@@ -137,7 +140,6 @@ int run_resize(const ResizeArgs& args) {
   options.weld_tolerance = args.weld_tolerance;
   options.move_seams = !args.seams_on_cells;
   if (!parse_seam_energy(args.seam_energy, options.seam_energy)) return exit_usage;  // CLI11 checked it
-  options.boundary_edges = true;  // the summary and the JSON report print them
   options.threads = args.policies.threads;  // the solver's moves too (same labels whatever the count)
   AnyRetargeter r(mesh, *a, args.labels, options);
   if (!r.status()) return fail(r.status());
@@ -163,12 +165,13 @@ int run_resize(const ResizeArgs& args) {
     j["promoted_offsets"].push_back(detail::vec3(a->normalization.to_model_offset(a->dominant[std::size_t(i)].offset)));
   j["file"] = args.output;
   if (!quiet) print_resize_summary(args, *a, *steps, out->report);
-  for (const std::string& w : out->report.warnings) std::fprintf(stderr, "restitch: warning: %s\n", w.c_str());
+  for (const ResultWarning& w : out->report.warnings)
+    std::fprintf(stderr, "restitch: warning: %s: %s\n", w.check.c_str(), w.message.c_str());
   if (!args.json.empty())
     if (Status s = write_json(j, args.json); !s) return fail(s, true);
   if (args.strict && !out->report.warnings.empty()) {
-    std::fprintf(stderr, "restitch: --strict: %zu warning(s) (exit %d)\n", out->report.warnings.size(), int(exit_seam));
-    return exit_seam;
+    std::fprintf(stderr, "restitch: --strict: %zu warning(s) (exit %d)\n", out->report.warnings.size(), int(exit_flagged));
+    return exit_flagged;
   }
   return exit_ok;
 }
@@ -218,7 +221,9 @@ void register_resize(CLI::App& app, int* exit_code) {
                 "keep every seam on a cell plane, as the paper does (by default a seam moves within half a cell to "
                 "where the two copies continue each other)");
   cmd->add_flag("--strict", args->strict,
-                "exit 7 when a seam mismatches by more than the tolerance (the output is still written)");
+                "exit 7 when the result check flags the result: an open seam, a part that occurs once copied a wrong "
+                "number of times, a size not the one asked, a floating piece, or an axis or centred part whole "
+                "periods cannot decide (the output is still written)");
   cmd->add_option("--max-problem", args->max_problem, "refuse requests with more nodes x labels than this")
       ->capture_default_str();
   cmd->add_option("--dump-mrf", args->dump_mrf,

@@ -85,9 +85,16 @@ std::vector<std::uint32_t> weld_positions(const Mesh& m, double tol) {
   return rep;
 }
 
-/// Boundary edges of m with positions welded at `tol` (see the file comment).
+/// A boundary edge: the welded representatives (weld_positions) of its two corners, a < b, and the one
+/// face that uses it.
+struct BoundaryEdge {
+  std::uint32_t a = 0, b = 0;
+  std::uint32_t face = 0;
+};
+
+/// The boundary edges of m with positions welded at `tol` (see the file comment), ordered by a, then b.
 template <class = void>
-std::size_t boundary_edge_count_at(const Mesh& m, double tol) {
+std::vector<BoundaryEdge> boundary_edges_at(const Mesh& m, double tol) {
   const std::vector<std::uint32_t> rep = weld_positions(m, tol);
   // Edges bucketed by their lower corner (a counting sort), each bucket sorted by the higher one:
   // O(#F) plus tiny sorts, instead of one O(#F log #F) sort.
@@ -97,26 +104,33 @@ std::size_t boundary_edge_count_at(const Mesh& m, double tol) {
     for (Eigen::Index t = 0; t < m.F.rows(); ++t) {
       const std::uint32_t c[3] = {rep[m.F(t, 0)], rep[m.F(t, 1)], rep[m.F(t, 2)]};
       if (c[0] == c[1] || c[1] == c[2] || c[2] == c[0]) continue;
-      for (int k = 0; k < 3; ++k) f(std::min(c[k], c[(k + 1) % 3]), std::max(c[k], c[(k + 1) % 3]));
+      for (int k = 0; k < 3; ++k) f(std::min(c[k], c[(k + 1) % 3]), std::max(c[k], c[(k + 1) % 3]), std::uint32_t(t));
     }
   };
-  each_edge([&](std::uint32_t a, std::uint32_t) { ++start[a + 1]; });
+  each_edge([&](std::uint32_t a, std::uint32_t, std::uint32_t) { ++start[a + 1]; });
   for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1), other(start[nv]);
-  each_edge([&](std::uint32_t a, std::uint32_t b) { other[fill[a]++] = b; });
-  std::size_t open = 0;
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> other(start[nv]);  // (higher corner, face)
+  each_edge([&](std::uint32_t a, std::uint32_t b, std::uint32_t t) { other[fill[a]++] = {b, t}; });
+  std::vector<BoundaryEdge> open;
   for (std::size_t v = 0; v < nv; ++v) {
-    std::uint32_t* b = other.data() + start[v];
-    std::uint32_t* e = other.data() + start[v + 1];
+    auto* b = other.data() + start[v];
+    auto* e = other.data() + start[v + 1];
     std::sort(b, e);
-    for (std::uint32_t* i = b; i != e;) {
-      std::uint32_t* j = i + 1;
-      while (j != e && *j == *i) ++j;
-      if (j - i == 1) ++open;
+    for (auto* i = b; i != e;) {
+      auto* j = i + 1;
+      while (j != e && j->first == i->first) ++j;
+      if (j - i == 1) open.push_back({std::uint32_t(v), i->first, i->second});
       i = j;
     }
   }
   return open;
+}
+
+/// How many boundary edges m has with positions welded at `tol`.
+template <class = void>
+std::size_t boundary_edge_count_at(const Mesh& m, double tol) {
+  return boundary_edges_at(m, tol).size();
 }
 
 /// Boundary edges of m at its weld tolerance (relative to the bounding-box diagonal).

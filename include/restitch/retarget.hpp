@@ -62,6 +62,7 @@
 #include "restitch/lattice/label_space.hpp"
 #include "restitch/mesh_boundary.hpp"
 #include "restitch/placement.hpp"
+#include "restitch/retarget/check.hpp"
 #include "restitch/retarget/labelling.hpp"
 #include "restitch/retarget/report.hpp"
 #include "restitch/retarget/request.hpp"
@@ -136,8 +137,7 @@ class Retargeter {
     rep.steps = steps;
     rep.cells_in = grid_.cells;
     rep.triangles_in = mesh_->triangle_count();
-    rep.boundary_edges_counted = options_.boundary_edges;
-    rep.boundary_edges_in = boundary_edges_in_;
+    rep.boundary_edges_in = input_shape_ ? input_shape_->edge_a.size() : 0;
     rep.weld_tolerance = stitch_.weld_tolerance();
     rep.weld_tolerance_measured = stitch_.weld_measured();
     rep.size_in = size_in_;
@@ -156,7 +156,7 @@ class Retargeter {
   std::unique_ptr<CellStructure> structure_;  // with RetargetOptions::keep_parts
   Eigen::Vector3d size_in_ = Eigen::Vector3d::Zero();
   BoundingBox box_in_;
-  std::size_t boundary_edges_in_ = 0;
+  std::unique_ptr<InputShape> input_shape_;  // with RetargetOptions::check
 };
 
 template <class LabelSpace, class Solver, class Stitcher>
@@ -185,7 +185,7 @@ Retargeter<LabelSpace, Solver, Stitcher>::Retargeter(const Mesh& mesh, const Ana
     RESTITCH_TRY(stitch_.prepare(mesh, grid_));
     box_in_ = bounding_box(mesh);
     size_in_ = box_in_.size();
-    if (options_.boundary_edges) boundary_edges_in_ = boundary_edge_count(mesh);
+    if (options_.check) input_shape_ = std::make_unique<InputShape>(mesh, stitch_.weld_tolerance());
     return {};
   });
 }
@@ -214,6 +214,7 @@ Result<RetargetResult> Retargeter<LabelSpace, Solver, Stitcher>::retarget(const 
       rep.triangles_out = rep.triangles_in;
       rep.vertices_out = out.mesh.vertex_count();
       rep.boundary_edges_out = rep.boundary_edges_in;
+      rep.checked = bool(input_shape_);
       rep.size_out = size_in_;
       rep.placement = place(analysis_->lattice, box_in_, Eigen::Array3i::Zero(), options_.pivot, structure_.get());
       rep.size_nearest = size_in_;
@@ -271,11 +272,6 @@ Result<RetargetResult> Retargeter<LabelSpace, Solver, Stitcher>::retarget(const 
     rep.regions = st.regions;
     rep.triangles_out = out.mesh.triangle_count();
     rep.vertices_out = out.mesh.vertex_count();
-    if (options_.boundary_edges) {
-      t = clock::now();
-      rep.boundary_edges_out = boundary_edge_count(out.mesh);
-      rep.timings_ms["boundary"] = ms_since(t);
-    }
     if (options_.face_labels) out.face_labels = face_labels(grid_, out.mesh, rep, labelling);
 
     // Placement: whole periods, so that the pivot stays put (placement.hpp).
@@ -284,6 +280,11 @@ Result<RetargetResult> Retargeter<LabelSpace, Solver, Stitcher>::retarget(const 
     out.grid.origin += rep.placement.translation;
     rep.size_out = out.mesh.empty() ? Eigen::Vector3d::Zero() : bounding_box(out.mesh).size();
     rep.size_nearest = rep.size_out;
+    if (input_shape_ && !out.mesh.empty()) {
+      t = clock::now();
+      check_result(*input_shape_, out.mesh, grid_, shift, structure_.get(), rep);
+      rep.timings_ms["check"] = ms_since(t);
+    }
     rep.timings_ms["total"] = ms_since(t0);
     progress.report("stitching", 1.0);
     if (out.mesh.empty())

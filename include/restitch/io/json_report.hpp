@@ -21,16 +21,17 @@
 //   descriptor, matcher, detector (the offset detector's name), timings_ms {stage: ms}.
 // retarget_json: steps, grid_steps, nodes, labels, edges, cycles, energy,
 //   non_metric, cells_in, cells_out, size_in, size_out, timings_ms,
-//   output {vertices, triangles}, boundary_edges {in, out} (open edges with
-//   positions welded, restitch/mesh_boundary.hpp; null unless
-//   RetargetOptions::boundary_edges), weld_tolerance {relative (of the input's
+//   output {vertices, triangles}, checked (the result check ran, RetargetOptions::check),
+//   boundary_edges {in, out, new} (open edges with positions welded, restitch/mesh_boundary.hpp; new:
+//   those no copy of the input's own, restitch/retarget/check.hpp; null unless checked), weld_tolerance {relative (of the input's
 //   diagonal, as the stitcher used it), measured (from the copies' vertices,
 //   RetargetOptions::measure_weld_tolerance)}, pivot {modes, point, translation, low_end_cells},
 //   exact {applied, scale, size_nearest}, seam_energy ("geometry" | "descriptor"),
 //   sample_spacing, seam_tolerance, max_seam_mismatch (model units), seams [{cells [[i,j,k] x2]
 //   (output cells; the second lies outside for an anchored end), labels [[du,dv,dw] x2], mismatch
 //   (model units), outer, offset (cells from the cell face, docs/method.md 2.9)}] (docs/method.md 2.8),
-//   warnings [string] (seams over the tolerance, parts kept off their place; empty when fine), seams_moved,
+//   warnings [{check, message}] (restitch/retarget/report.hpp, ResultWarning; empty when the result
+//   passed every check), seams_moved,
 //   plane_offsets [[..] x3] (per lattice axis, the offset of each plane between output cells; [] when
 //   none moved, 2.9), parts [{axis (1-based lattice axis), cells [first, last] (1-based input cells),
 //   anchor ("low end" | "high end" | "centre"), shift (cells it moved along its axis)}] (parts that occur
@@ -115,9 +116,11 @@ nlohmann::json retarget_json(const RetargetReport& r) {
   j["size_out"] = detail::vec3(r.size_out);
   j["timings_ms"] = r.timings_ms;
   j["output"] = {{"vertices", r.vertices_out}, {"triangles", r.triangles_out}};
-  j["boundary_edges"] = r.boundary_edges_counted
-                           ? nlohmann::json{{"in", r.boundary_edges_in}, {"out", r.boundary_edges_out}}
-                           : nlohmann::json(nullptr);
+  j["checked"] = r.checked;
+  j["boundary_edges"] = r.checked ? nlohmann::json{{"in", r.boundary_edges_in},
+                                                   {"out", r.boundary_edges_out},
+                                                   {"new", r.boundary_edges_new}}
+                                  : nlohmann::json(nullptr);
   j["weld_tolerance"] = {{"relative", r.weld_tolerance}, {"measured", r.weld_tolerance_measured}};
   const Placement& p = r.placement;
   j["pivot"] = {{"modes", {pivot_name(p.modes[0]), pivot_name(p.modes[1]), pivot_name(p.modes[2])}},
@@ -136,7 +139,8 @@ nlohmann::json retarget_json(const RetargetReport& r) {
                           {"mismatch", s.mismatch},
                           {"outer", s.outer},
                           {"offset", s.offset}});
-  j["warnings"] = r.warnings;
+  j["warnings"] = nlohmann::json::array();
+  for (const ResultWarning& w : r.warnings) j["warnings"].push_back({{"check", w.check}, {"message", w.message}});
   j["seams_moved"] = r.seams_moved;
   j["plane_offsets"] = {r.plane_offsets[0], r.plane_offsets[1], r.plane_offsets[2]};
   j["parts"] = nlohmann::json::array();

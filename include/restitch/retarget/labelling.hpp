@@ -37,9 +37,9 @@ Status plan_parts(const CellStructure* structure, const Eigen::Array3i& k, Retar
     if (k[a] == 0) continue;
     const std::string axis = std::to_string(a + 1);
     if (structure->undecided[std::size_t(a)])
-      rep.warnings.push_back("no two neighbouring cells along axis " + axis + " are copies of one another, so what "
+      rep.warnings.push_back({"undecided axis", "no two neighbouring cells along axis " + axis + " are copies of one another, so what "
                              "occurs once along it was not decided: look at the result (its period may be wrong: "
-                             "give it with --offsets)");
+                             "give it with --offsets)"});
     if (k[a] < 0 && !parts_fit(*structure, a, k[a])) {
       int most = 0;
       while (most + 1 < structure->cells[a] && parts_fit(*structure, a, -(most + 1))) ++most;
@@ -56,9 +56,9 @@ Status plan_parts(const CellStructure* structure, const Eigen::Array3i& k, Retar
       const int d = CellStructure::shift_of(p, k[a]);
       rep.parts.push_back({p.axis, p.first, p.last, p.anchor, d});
       if (p.anchor == PartAnchor::centre && std::abs(CellStructure::offset_after(p, k[a])) > std::abs(p.offset) + 1e-9)
-        rep.warnings.push_back("the part at " + describe_part(p) + " is centred in the model; resized by " +
+        rep.warnings.push_back({"part off centre", "the part at " + describe_part(p) + " is centred in the model; resized by " +
                                std::to_string(k[a]) + " steps it lies half a period off the centre (whole periods "
-                               "cannot centre it)");
+                               "cannot centre it)"});
     }
   }
   return {};

@@ -39,6 +39,14 @@ struct PartReport {
   int shift = 0;
 };
 
+/// Something in a result a modeller would look at: the check that found it and a sentence. Checks:
+/// "undecided axis" and "part off centre" (known when the request is planned, restitch/retarget/labelling.hpp),
+/// "open seam", "part count", "size" and "floating piece" (the result check, restitch/retarget/check.hpp).
+struct ResultWarning {
+  std::string check;
+  std::string message;
+};
+
 struct RetargetReport {
   Eigen::Array3i steps = Eigen::Array3i::Zero();       ///< as requested, per lattice axis (dummies included; see lattice_steps_from_principal)
   Eigen::Array3i grid_steps = Eigen::Array3i::Zero();  ///< cells added per axis of the label grid
@@ -49,9 +57,8 @@ struct RetargetReport {
   std::size_t triangles_in = 0, triangles_out = 0, vertices_out = 0, regions = 0;
   /// Boundary (open) edges of the input and of the output: positions welded over the whole mesh at the
   /// default weld tolerance (1e-6 of the bounding-box diagonal), attributes ignored, edges used by exactly
-  /// one face (restitch/mesh_boundary.hpp). A closed input with exact repeats should give 0 out. Counted
-  /// only with RetargetOptions::boundary_edges (then boundary_edges_counted is true; else both are 0).
-  bool boundary_edges_counted = false;
+  /// one face (restitch/mesh_boundary.hpp). Counted by the result check (RetargetOptions::check, `checked`
+  /// below; else 0).
   std::size_t boundary_edges_in = 0, boundary_edges_out = 0;
   /// The stitcher's weld tolerance as used, relative to the input's diagonal (0 for a stitcher without
   /// one), and whether it was measured from the copies (RetargetOptions::measure_weld_tolerance) rather
@@ -73,9 +80,13 @@ struct RetargetReport {
   double max_seam_mismatch = 0;
   double seam_tolerance = 0;  ///< as used (RetargetOptions::seam_tolerance, or its default)
   double sample_spacing = 0;  ///< model units (CellSlabs::spacing)
-  /// Seams over the tolerance, one sentence each ("seam between cells ... mismatches by ..."), and parts kept
-  /// off their place (a centred part grown by an odd number of cells); empty when fine.
-  std::vector<std::string> warnings;
+  /// What a modeller should look at (see ResultWarning); empty when the result passed every check.
+  std::vector<ResultWarning> warnings;
+  /// Whether the result check ran (RetargetOptions::check), and what it counted: the output's open edges
+  /// that are no copy of the input's own (boundary_edges_new) and each one's two corners (output space).
+  bool checked = false;
+  std::size_t boundary_edges_new = 0;
+  std::vector<std::array<Eigen::Vector3f, 2>> open_edges;
   /// The parts that occur once along the resized axes, as kept (RetargetOptions::keep_parts).
   std::vector<PartReport> parts;
   /// Where the planes between output cells lie (docs/method.md 2.9): plane_offsets[a][i], i = 0 ..

@@ -35,8 +35,9 @@ struct RetargetOptions {
   /// seam energies): the geometric energy's first request of a new size costs more (up to 149 ms on the
   /// shared models, against 24 ms) and it shrinks some wrongly.
   SeamEnergy seam_energy = SeamEnergy::descriptor;
-  /// A seam whose mismatch (model units) exceeds this is reported in RetargetReport::warnings.
-  /// 0 (default): 3 x the sample spacing (CellSlabs::spacing), see docs/method.md 2.8.
+  /// A seam whose mismatch (model units) exceeds this is over the tolerance (SeamReport::mismatch; the
+  /// web page draws it red). 0 (default): 3 x the sample spacing (CellSlabs::spacing), see docs/method.md
+  /// 2.8. An estimate from samples: the result check (`check`) says whether a seam is open.
   double seam_tolerance = 0;
   /// Refuse requests whose nodes x labels exceed this (memory and time grow with it).
   std::size_t max_problem_size = 2'000'000;
@@ -44,11 +45,13 @@ struct RetargetOptions {
   bool face_labels = false;
   /// What stays put along each world axis x, y, z (restitch/placement.hpp): by default the model's origin.
   Pivots pivot{{Pivot::origin, Pivot::origin, Pivot::origin}};
-  /// Count the boundary edges of the input (once, when the Retargeter is built) and of every output into
-  /// the report (restitch/mesh_boundary.hpp). Off by default: counting the output costs O(#V + #F) with a
-  /// hash look-up per vertex, several times the stitch itself (bench: 57 ms at 28k triangles on the
-  /// loaded 2-core machine, against a 2 ms stitch), too slow for a live slider. The CLI turns it on.
-  bool boundary_edges = false;
+  /// Check the result for what a modeller would reject (restitch/retarget/check.hpp, docs/method.md 2.11):
+  /// open edges the input does not have, parts that occur once copied a wrong number of times, a size not
+  /// the one asked, pieces left floating; each failed check adds a RetargetReport::warnings entry, and the
+  /// report counts the boundary edges in, out and new. It costs O(#V + #F) per result with a hash look-up
+  /// per vertex, several times the stitch (docs/benchmarks.md); a live slider may turn it off and check
+  /// the size it settles on.
+  bool check = true;
   /// Let a seam leave its cell plane (docs/method.md 2.9): after the labels are solved, each plane between
   /// output cells where copies meet moves, within half a cell, to where the two copies continue each other
   /// (when they do not at the cell plane), so a part longer than the cut's neighbourhood is not cut when
@@ -87,6 +90,10 @@ std::string format_size(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", x);
   return buf;
+}
+template <class = void>
+std::string format_point(const Eigen::Vector3d& p) {
+  return "(" + format_size(p.x()) + ", " + format_size(p.y()) + ", " + format_size(p.z()) + ")";
 }
 }  // namespace detail
 

@@ -2,7 +2,7 @@
 //
 // After the labels are solved: `move_seams` moves each plane between output cells where copies meet
 // to where the two copies continue each other (2.9), `measure_seams` measures every seam on the
-// geometry and warns about those over the tolerance (2.8), and `face_labels` says which label each
+// geometry (2.8), and `face_labels` says which label each
 // output face lies in (for display). All read the dense samples through CellSlabs.
 #pragma once
 
@@ -44,15 +44,6 @@ struct MovedPlanes {
   }
 };
 
-template <class = void>
-std::string seam_warning(const SeamReport& s, double tolerance) {
-  auto cell = [](const Eigen::Array3i& c) {
-    return "(" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + ")";
-  };
-  return (s.outer ? "seam between cell " + cell(s.cell_a) + " and the end of the model outside it"
-                  : "seam between cells " + cell(s.cell_a) + " and " + cell(s.cell_b)) +
-         " mismatches by " + detail::format_size(s.mismatch) + " model units (tolerance " + detail::format_size(tolerance) + ")";
-}
 
 
 // Every seam of a labelling, measured on the geometry (docs/method.md 2.8): face neighbours with
@@ -62,7 +53,7 @@ std::string seam_warning(const SeamReport& s, double tolerance) {
 // toward -e when that is smaller (the same plane; it matters where one pair has a cell outside). An
 // end cell x with label d and anchor d' (outer seam, where the stitcher puts an end cap): the cells
 // x - d and x - d' compared on either side of the end plane (Lattice::end_low / end_high;
-// CellSlabs::plane_mismatch). Each seam over the tolerance adds a warning (seam_warning).
+// CellSlabs::plane_mismatch).
 template <class = void>
 void measure_seams(CellSlabs& slabs, const Lattice& grid, const RetargetOptions& options, const Eigen::Array3i& k,
                    const Eigen::Array3i& cells_out, const std::vector<Eigen::Array3i>& shift, const MovedPlanes& planes,
@@ -150,8 +141,6 @@ void measure_seams(CellSlabs& slabs, const Lattice& grid, const RetargetOptions&
       }
     }
   }
-  for (const SeamReport& seam : rep.seams)
-    if (seam.mismatch > rep.seam_tolerance) rep.warnings.push_back(seam_warning(seam, rep.seam_tolerance));
 }
 
 

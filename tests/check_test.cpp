@@ -1,0 +1,197 @@
+// The result check (restitch/retarget/check.hpp, docs/method.md 2.11): known answers on small meshes, and
+// measured as a detector on the generated families, exact results and results broken on purpose.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <string>
+
+#include "restitch/families/families.hpp"
+#include "restitch/restitch.hpp"
+#include "support/mesh_builders.hpp"
+#include "support/surface_distance.hpp"
+
+using namespace restitch;
+
+namespace {
+
+Mesh two_triangles(const Eigen::Vector3f& o) {  // an open unit square in the z = o.z plane
+  Mesh m;
+  m.V.resize(4, 3);
+  m.V << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0;
+  m.V.rowwise() += o.transpose();
+  m.F.resize(2, 3);
+  m.F << 0, 1, 2, 0, 2, 3;
+  m.FG = VectorXu::Zero(2);
+  m.groups.resize(1);
+  return m;
+}
+
+Mesh joined(const Mesh& a, const Mesh& b) {
+  Mesh m = a;
+  m.V.conservativeResize(a.V.rows() + b.V.rows(), 3);
+  m.V.bottomRows(b.V.rows()) = b.V;
+  m.F.conservativeResize(a.F.rows() + b.F.rows(), 3);
+  m.F.bottomRows(b.F.rows()) = b.F.array() + std::uint32_t(a.V.rows());
+  m.FG = VectorXu::Zero(m.F.rows());
+  return m;
+}
+
+// Solves, then gives every output cell of the middle slab along `axis` the label farthest from its own: a
+// wrong label forced.
+struct WrongLabelSolver {
+  int axis = 0;
+  template <class P>
+  Status solve(const P& problem, std::vector<int>& labels, SolveReport& report, const Progress& progress) const {
+    RESTITCH_TRY(AlphaExpansion<>().solve(problem, labels, report, progress));
+    const CellGrid& out = problem.out_grid();
+    const int mid = out.dims[axis] / 2;
+    for (std::int64_t x = 0; x < out.size(); ++x) {
+      if (out.cell(x)[axis] != mid) continue;
+      const Eigen::Array3i d = problem.labels()[std::size_t(labels[std::size_t(x)])];
+      int best = labels[std::size_t(x)];
+      for (int l = 0; l < problem.label_count(); ++l)
+        if (std::abs(problem.labels()[std::size_t(l)][axis] - d[axis]) >
+            std::abs(problem.labels()[std::size_t(best)][axis] - d[axis]))
+          best = l;
+      labels[std::size_t(x)] = best;
+    }
+    return {};
+  }
+};
+
+// The default stitcher on a grid whose planes lie `offset` of a cell further along `axis`: every seam off its
+// plane.
+struct MovedSeamStitcher {
+  int axis = 0;
+  double offset = 0.37;
+  Status stitch(const Mesh& in, const Lattice& lattice, const Eigen::Array3i& out_cells,
+                const std::vector<Eigen::Array3i>& shift, Mesh& out, StitchReport& report) const {
+    Lattice moved = lattice;
+    moved.origin += offset * lattice.A.col(axis);
+    return ClipStitcher().stitch(in, moved, out_cells, shift, out, report);
+  }
+};
+
+// Flagged by the result check (the planned warnings aside); `open_seams`: count open seams too.
+bool flagged(const RetargetReport& r, bool open_seams = true) {
+  for (const ResultWarning& w : r.warnings)
+    if (w.check != "part off centre" && w.check != "undecided axis" && (open_seams || w.check != "open seam"))
+      return true;
+  return false;
+}
+
+bool exact(const Mesh& out, const Mesh& truth) {
+  const BoundingBox bt = bounding_box(truth), bo = bounding_box(out);
+  const double size = bt.size().norm();
+  return (bt.min - bo.min).norm() < 1e-4 * size && (bt.max - bo.max).norm() < 1e-4 * size &&
+         test::symmetric_surface_distance(out, truth, 0.004 * size) < 1e-4 * size;
+}
+
+}  // namespace
+
+TEST_CASE("check: open edges of the input and their copies are told from new ones", "[check]") {
+  const Mesh sheet = two_triangles(Eigen::Vector3f::Zero());
+  InputShape in(sheet, 1e-6);
+  REQUIRE(in.edge_a.size() == 4);
+  // A piece of an edge, moved back onto the sheet, lies on an open edge; a diagonal and a segment beside
+  // the sheet do not.
+  CHECK(in.on_open_edge(Eigen::Vector3d(0.2, 0, 0), Eigen::Vector3d(0.7, 0, 0)));
+  CHECK(in.on_open_edge(Eigen::Vector3d(1, 0.1, 0), Eigen::Vector3d(1, 0.9, 0)));
+  CHECK_FALSE(in.on_open_edge(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 1, 0)));
+  CHECK_FALSE(in.on_open_edge(Eigen::Vector3d(0.2, 0.01, 0), Eigen::Vector3d(0.7, 0.01, 0)));
+  CHECK_FALSE(in.on_open_edge(Eigen::Vector3d(0.5, 0, 0), Eigen::Vector3d(1.5, 0, 0)));  // runs past its end
+}
+
+TEST_CASE("check: pieces that touch are one group, a piece apart is its own", "[check]") {
+  const Mesh a = two_triangles(Eigen::Vector3f::Zero());
+  const Mesh touching = joined(a, two_triangles(Eigen::Vector3f(1, 0, 0)));  // shares the edge x = 1, not welded
+  CHECK(detail::touching_groups(touching, 1e-6, 1e-3).size() == 1);
+  const Mesh apart = joined(a, two_triangles(Eigen::Vector3f(1.5, 0, 0)));
+  const std::vector<BoundingBox> g = detail::touching_groups(apart, 1e-6, 1e-3);
+  REQUIRE(g.size() == 2);
+  CHECK(g[0].size().isApprox(Eigen::Vector3d(1, 1, 0)));
+  CHECK(g[1].min.isApprox(Eigen::Vector3d(1.5, 0, 0)));
+}
+
+// The detector, measured: every structured family at every count resized to every other count of its
+// sweep, as solved and broken on purpose (the middle slab given the label farthest from its own; every seam
+// moved 0.37 of a cell off its plane). Each result is compared in place with the family generated at the
+// count asked (exact: boxes and surfaces within 1e-4 of the diagonal). Every result that is not exact is
+// flagged, unless the report said beforehand that whole periods cannot do it (a centred part half a period
+// off, an undecided axis). A solved result that is exact is flagged by no check but "open seam", which
+// flags the few exact results whose seams the stitcher leaves open (docs/results.md). The counts are
+// printed (docs/results.md, the result check).
+TEST_CASE("check: flags the broken results and none of the exact ones on the generated families",
+          "[check][samples][slow]") {
+  struct Sweep {
+    std::string name;
+    std::vector<int> counts;
+    std::map<std::string, double> params;
+  };
+  std::map<std::string, std::array<int, 4>> tally;  // per variant: exact, exact flagged, broken, broken flagged
+  for (const Sweep& s : {Sweep{"connector", {4, 5, 6, 8}, {}}, Sweep{"cabinet", {3, 4, 6}, {}},
+                         Sweep{"radiator", {3, 5, 8}, {}}, Sweep{"box_header", {6, 8, 10}, {}},
+                         Sweep{"shutter", {7, 9}, {}}, Sweep{"railing", {3, 5}, {}},
+                         Sweep{"pin_header", {2, 4, 7}, {{"closed", 1}}}, Sweep{"fence", {4, 7}, {}}}) {
+    const std::string count = families::generate(s.name)->count_parameters[0];
+    for (const int n : s.counts) {
+      std::map<std::string, double> params = s.params;
+      params[count] = n;
+      auto sample = families::generate(s.name, params);
+      REQUIRE(sample.ok());
+      auto a = analyze(sample->mesh);
+      REQUIRE(a.ok());
+      int axis = -1;
+      for (int b = 0; b < 3; ++b)
+        if (!a->lattice.dummy[b] &&
+            std::abs(a->lattice.A.col(b).normalized().dot(sample->generators[0].normalized())) > std::cos(M_PI / 180))
+          axis = b;
+      REQUIRE(axis >= 0);
+      Retargeter<> solved(sample->mesh, *a);
+      Retargeter<LatticeLabels, WrongLabelSolver> wrong(sample->mesh, *a, {}, {}, WrongLabelSolver{axis});
+      Retargeter<LatticeLabels, AlphaExpansion<>, MovedSeamStitcher> moved(sample->mesh, *a, {}, {}, {},
+                                                                           MovedSeamStitcher{axis});
+      for (const int m : s.counts) {
+        if (m == n) continue;
+        INFO(s.name << " " << n << " to " << m);
+        params[count] = m;
+        auto truth = families::generate(s.name, params);
+        REQUIRE(truth.ok());
+        Eigen::Array3i steps = Eigen::Array3i::Zero();
+        steps[axis] = m - n;
+        auto judge = [&](const std::string& variant, const Result<RetargetResult>& out) {
+          REQUIRE(out.ok());
+          CHECK(out->report.checked);
+          const RetargetReport& r = out->report;
+          std::array<int, 4>& t = tally[variant];
+          bool known = false;  // the report said whole periods cannot do it
+          for (const ResultWarning& w : r.warnings) known = known || w.check == "part off centre" || w.check == "undecided axis";
+          std::string said;
+          for (const ResultWarning& w : r.warnings) said += w.check + ": " + w.message + "; ";
+          INFO(variant << ": " << said);
+          if (exact(out->mesh, truth->mesh)) {
+            ++t[0];
+            t[1] += flagged(r);
+            if (variant == "solved") CHECK_FALSE(flagged(r, false));
+            CHECK((std::any_of(r.warnings.begin(), r.warnings.end(),
+                               [](const ResultWarning& w) { return w.check == "open seam"; }) ==
+                   (r.boundary_edges_new > 0)));
+          } else if (!known) {
+            ++t[2];
+            t[3] += flagged(r);
+            CHECK(flagged(r));
+          }
+        };
+        judge("solved", solved.retarget(steps));
+        judge("wrong label", wrong.retarget(steps));
+        judge("moved seams", moved.retarget(steps));
+      }
+    }
+  }
+  for (const auto& [variant, t] : tally)
+    std::printf("check %-12s exact %3d (flagged %d), not exact %3d (flagged %d)\n", variant.c_str(), t[0], t[1], t[2],
+                t[3]);
+}
