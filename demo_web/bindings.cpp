@@ -27,8 +27,10 @@
 //     .retarget(s1, s2, s3, labelSpace, pivot, seamEnergy) -> the same, solved with seamEnergy
 //                                           ("descriptor", the default, or "geometry"; docs/method.md 2.4b),
 //                                           plus seam_faces: Uint8Array, 1 for each face (face order) within the
-//                                           slab of a seam whose mismatch passes the tolerance (report.warnings;
-//                                           docs/method.md 2.8), so the page can draw it red.
+//                                           slab of a seam whose mismatch passes the tolerance (docs/method.md
+//                                           2.8), and open_edges: Float32Array, two corners (x, y, z) per open
+//                                           edge of the result that the input does not have (the result
+//                                           check, docs/method.md 2.11), so the page can draw them red.
 //     .prepare(labelSpace, seamEnergy)   -> {ok, ms} | error: builds what the next .retarget with these
 //                                           policies needs (the Retargeter: grid, cell descriptors, stitch
 //                                           cache) and runs one resize per principal offset (+1 along it) that it throws away, so
@@ -399,6 +401,10 @@ class Session {
     std::vector<std::uint8_t> seam_face(order.size(), 0);
     for (std::size_t q = 0; q < order.size(); ++q) seam_face[q] = bad[order[q]];
     out.set("seam_faces", typed_array("Uint8Array", seam_face.data(), seam_face.size()));
+    std::vector<float> open_edges;  // the result check's new open edges: two corners each
+    for (const std::array<Eigen::Vector3f, 2>& e : r.report.open_edges)
+      for (const Eigen::Vector3f& p : e) open_edges.insert(open_edges.end(), {p.x(), p.y(), p.z()});
+    out.set("open_edges", typed_array("Float32Array", open_edges.data(), open_edges.size()));
     return out;
   }
 

@@ -11,6 +11,7 @@
 #include "restitch/families/families.hpp"
 #include "restitch/restitch.hpp"
 #include "support/mesh_builders.hpp"
+#include "restitch/mesh_boundary.hpp"
 #include "support/surface_distance.hpp"
 
 using namespace restitch;
@@ -194,4 +195,67 @@ TEST_CASE("check: flags the broken results and none of the exact ones on the gen
   for (const auto& [variant, t] : tally)
     std::printf("check %-12s exact %3d (flagged %d), not exact %3d (flagged %d)\n", variant.c_str(), t[0], t[1], t[2],
                 t[3]);
+}
+
+namespace {
+// Every edge of m (positions welded at `tol`) is run once each way by its two faces: closed and
+// consistently oriented. Returns the edges that are not.
+std::size_t badly_oriented_edges(const Mesh& m, double tol) {
+  const std::vector<std::uint32_t> rep = weld_positions(m, tol);
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> run;  // directed edge -> times run
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    const std::uint32_t c[3] = {rep[m.F(f, 0)], rep[m.F(f, 1)], rep[m.F(f, 2)]};
+    if (c[0] == c[1] || c[1] == c[2] || c[2] == c[0]) continue;
+    for (int k = 0; k < 3; ++k) ++run[{c[k], c[(k + 1) % 3]}];
+  }
+  std::size_t bad = 0;
+  for (const auto& [e, n] : run) {
+    const auto back = run.find({e.second, e.first});
+    bad += n != 1 || back == run.end() || back->second != 1;
+  }
+  return bad;
+}
+}  // namespace
+
+// The zipper (restitch/stitch/detail/zipper.hpp): a closed round rail whose copies differ slightly (every
+// ring's radius by up to 5%, turned by up to half a side) opens every seam it is cut at, unless the two
+// cut lines are joined by a strip. With the strip every resize is closed, consistently oriented, passes
+// the check, and lies within the copies' differences of the exact rail at that count.
+TEST_CASE("check: a closed rail whose copies differ slightly stays closed at every count, zipped",
+          "[check][stitch][samples]") {
+  const std::map<std::string, double> inexact = {{"jitter", 0.05}, {"twist", 0.5}};
+  for (const int n : {3, 5}) {  // at 2, two copies that differ are no repeat: no principal offset
+    std::map<std::string, double> params = inexact;
+    params["modules"] = n;
+    auto sample = families::generate("tube_rail", params);
+    REQUIRE(sample.ok());
+    REQUIRE(boundary_edge_count(sample->mesh) == 0);
+    auto a = analyze(sample->mesh);
+    REQUIRE(a.ok());
+    REQUIRE(a->principal.size() == 1);
+    Retargeter<> zipped(sample->mesh, *a);
+    ClipStitcher unzipped_stitcher;
+    unzipped_stitcher.zip_seams = false;
+    Retargeter<> unzipped(sample->mesh, *a, {}, {}, {}, unzipped_stitcher);
+    for (const int m : {1, 2, 4, 6}) {
+      if (m == n) continue;
+      INFO(n << " to " << m);
+      auto steps = lattice_steps_from_principal(*a, {m - n});
+      REQUIRE(steps.ok());
+      auto out = zipped.retarget(*steps);
+      REQUIRE(out.ok());
+      CHECK(out->report.boundary_edges_out == 0);
+      CHECK(out->report.warnings.empty());
+      const double tol = weld_tolerance_of(out->mesh);
+      CHECK(badly_oriented_edges(out->mesh, tol) == 0);
+      auto exact = families::generate("tube_rail", {{"modules", m}});
+      REQUIRE(exact.ok());
+      const double size = bounding_box(exact->mesh).size().norm();
+      // Rings differ by up to 5% of the 0.02 radius plus the sagitta of half a side: 1.4 mm.
+      CHECK(test::symmetric_surface_distance(out->mesh, exact->mesh, 0.004 * size) < 0.0014);
+      auto open = unzipped.retarget(*steps);
+      REQUIRE(open.ok());
+      CHECK(open->report.boundary_edges_new > 0);  // what the strips close
+    }
+  }
 }

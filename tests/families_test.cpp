@@ -20,7 +20,8 @@ using Vec3 = Eigen::Vector3d;
 namespace {
 
 const std::vector<std::string> kNames = {"bookshelf", "box_header", "cabinet",   "connector", "facade", "facade_sheared",
-                                         "fence",     "pin_header", "radiator", "railing",   "shutter"};
+                                         "fence",     "pin_header", "radiator", "railing",   "shutter",
+                                         "tube_rail"};
 
 SampleModel make(const std::string& name, const std::map<std::string, double>& o = {}) {
   auto r = generate(name, o);

@@ -147,7 +147,8 @@ TEST_CASE("retarget: copies that differ by less than the weld tolerance are weld
   // The closed 4-pin header with every vertex moved by up to 1e-5 of the diagonal per coordinate (a
   // deterministic function of its position): the input stays closed (indexed), but copies meeting at a seam differ by up
   // to 2 sqrt(3) 1e-5 = 3.5e-5 of the diagonal. Stitched with the clean model's analysis (so only the
-  // weld differs): open at the stitcher's 1e-6, closed at 1e-4 (RetargetOptions::weld_tolerance), and
+  // weld differs): open at the stitcher's 1e-6 without the strips between cut lines and closed with them,
+  // closed at 1e-4 (RetargetOptions::weld_tolerance), and
   // closed by default, where the copies' precision is measured (RetargetOptions::measure_weld_tolerance):
   // their vertex pairs all lie within 6.4e-5, and within it the tolerance is measured.
   auto s = families::generate("pin_header", {{"pins", 4}, {"closed", 1}});
@@ -167,9 +168,14 @@ TEST_CASE("retarget: copies that differ by less than the weld tolerance are weld
     INFO("steps " << k);
     RetargetOptions options;
     options.measure_weld_tolerance = false;
-    auto open = Retargeter<>(noisy, p.analysis, options).retarget(steps_along(p, 0, k));
+    ClipStitcher unzipped;  // the strips between cut lines (zipper.hpp) would close it at any weld
+    unzipped.zip_seams = false;
+    auto open = Retargeter<>(noisy, p.analysis, options, {}, {}, unzipped).retarget(steps_along(p, 0, k));
     REQUIRE(open.ok());
     CHECK(open->report.boundary_edges_out > 0);
+    auto zipped = Retargeter<>(noisy, p.analysis, options).retarget(steps_along(p, 0, k));
+    REQUIRE(zipped.ok());
+    CHECK(zipped->report.boundary_edges_out == 0);
     CHECK(open->report.weld_tolerance == 1e-6);
     CHECK(!open->report.weld_tolerance_measured);
     options.measure_weld_tolerance = true;

@@ -3,8 +3,10 @@
 //   modelObjects({mesh, view, materials, result}) -> {model, seams}   the model in one of the views:
 //       'shaded' (its own materials), 'labels' (output cells coloured by label, paper Fig. 4c) or
 //       'seams' (grey, plus the faces between differently labelled cells; seams is null otherwise).
-//       In 'labels' and 'seams' a seam whose mismatch passes the tolerance (result.report.warnings,
-//       docs/method.md 2.8) is red: its cell face, and the model's faces near it (result.seam_faces).
+//       In 'labels' and 'seams' a seam whose mismatch passes the tolerance (docs/method.md 2.8) is red:
+//       its cell face, and the model's faces near it (result.seam_faces). In every view the result's
+//       open edges that the input does not have (result.open_edges, the result check's "open seam",
+//       docs/method.md 2.11) are drawn as red lines on top.
 //   offsetArrows(principalOffsets, box) -> [ArrowHelper]   principal offsets from the box's centre (paper Fig. 2)
 //   histogramObjects(analysis, extras) -> [Object3D]           offsets of all matches and the dominant
 //                                                              (candidates in cyan) and principal offsets,
@@ -202,7 +204,26 @@ function seamObject(result) {
   return group;
 }
 
-export function modelObjects({ mesh, view, materials = [], result = null }) {
+// The result's new open edges (6 floats per edge) as red lines drawn over the model, or null.
+function openEdgeLines(result) {
+  const e = result && result.open_edges;
+  if (!e || e.length === 0) return null;
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.BufferAttribute(e, 3));
+  const lines = new THREE.LineSegments(g, owned(new THREE.LineBasicMaterial({ color: SEAM_OVER_COLOR, depthTest: false })));
+  lines.renderOrder = 5;
+  lines.name = 'open-edges';
+  return lines;
+}
+
+export function modelObjects(args) {
+  const objects = modelObjectsOf(args);
+  const lines = openEdgeLines(args.result);
+  if (lines) objects.model.add(lines);
+  return objects;
+}
+
+function modelObjectsOf({ mesh, view, materials = [], result = null }) {
   if (view === 'labels') {
     const m = owned(new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.75, side: THREE.DoubleSide }));
     return { model: new THREE.Mesh(labelGeometry(mesh, result ? result.face_labels : null,

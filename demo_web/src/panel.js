@@ -64,9 +64,16 @@ export function figureRows({ model: m, analysis: a, retarget: r, shown, analysis
     rows.push(['nodes', `${rep.nodes}`]);
     rows.push(['labels', `${rep.labels}`]);
     rows.push(['cycles', `${rep.cycles}, energy ${fmt(rep.energy, 4)}` + (rep.seam_energy ? ` (${rep.seam_energy})` : '')]);
-    if (rep.seams)
+    if (rep.seams) {
+      const over = rep.seams.filter((s) => s.mismatch > rep.seam_tolerance).length;
       rows.push(['worst seam', `${fmt(rep.max_seam_mismatch, 3)} ${m.units} (tolerance ` +
-                 `${fmt(rep.seam_tolerance, 3)})` + (rep.warnings.length ? `: ${rep.warnings.length} over, in red` : '')]);
+                 `${fmt(rep.seam_tolerance, 3)})` + (over ? `: ${over} over, in red` : '')]);
+    }
+    if (rep.checked)
+      rows.push(['check', rep.warnings.length
+        ? rep.warnings.map((w) => w.check).join(', ') + (rep.boundary_edges.new ? ` (${rep.boundary_edges.new} open edges, in red)` : '')
+        : 'passed']);
+    for (const w of rep.warnings) rows.push([w.check, w.message]);
     rows.push(['solve', `${fmt(rep.timings_ms.solve || 0, 3)} ms (energy ${fmt(rep.timings_ms.energy || 0, 3)} ms, ` +
                         `stitch ${fmt(rep.timings_ms.stitch || 0, 3)} ms)`]);
     rows.push(['resize', `${fmt(r.pageMs, 3)} ms in the page (${fmt(r.ms, 3)} ms in the worker)`]);

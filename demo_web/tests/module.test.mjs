@@ -63,7 +63,7 @@ test('the module lists its samples and policies', () => {
   // The library's catalog (restitch/families/families.hpp), in its alphabetical order: the plain families and
   // those with structure around the repeat (restitch/families/structured.hpp).
   assert.deepEqual(names, ['bookshelf', 'box_header', 'cabinet', 'connector', 'facade', 'facade_sheared', 'fence',
-                           'pin_header', 'radiator', 'railing', 'shutter']);
+                           'pin_header', 'radiator', 'railing', 'shutter', 'tube_rail']);
   const p = restitch.policies();
   // The library's lists (restitch/runtime.hpp), the default first: the page preselects the first.
   assert.deepEqual(p.descriptors, ['shot', 'fpfh']);
@@ -257,6 +257,9 @@ test('every seam is reported with its mismatch; the seam energy is chosen by nam
   assert.deepEqual(geo.report.warnings, []);
   assert.equal(geo.seam_faces.length, geo.face_labels.length);
   assert.ok(geo.seam_faces.every((f) => f === 0));
+  assert.equal(geo.report.checked, true, 'the result check ran');
+  assert.equal(geo.report.boundary_edges.new, 0);
+  assert.ok(geo.open_edges instanceof Float32Array && geo.open_edges.length === 0);
   const desc = shelf.retarget(2, 0, 0, 'lattice', 'origin', 'descriptor');
   assert.equal(desc.ok, true, desc.message);
   assert.equal(desc.report.seam_energy, 'descriptor');
@@ -662,4 +665,22 @@ test('prepare builds the first resize\'s retargeter and warms it: same result by
   assert.match(bad.message, /label space/);
   assert.equal(s.prepare('lattice', 'telepathy').ok, false);
   s.delete();
+});
+
+test('the result check names what is wrong and gives the open edges to draw red', () => {
+  // The paper's regular labels on a connector cut its walls where nothing continues them.
+  const c = new restitch.Session();
+  try {
+    assert.equal(c.loadSample('connector', { pins: 5 }).ok, true);
+    assert.equal(c.analyze('shot', 'reduced', () => {}).ok, true);
+    const r = c.retarget(2, 0, 0, 'regular');
+    assert.equal(r.ok, true, r.message);
+    assert.equal(r.report.checked, true);
+    assert.ok(r.report.warnings.some((w) => w.check === 'open seam' && /open where the input is closed/.test(w.message)));
+    assert.ok(r.report.boundary_edges.new > 0);
+    assert.equal(r.open_edges.length, 6 * r.report.boundary_edges.new, 'two corners per new open edge');
+    assert.ok(r.open_edges.every(Number.isFinite));
+  } finally {
+    c.delete();
+  }
 });

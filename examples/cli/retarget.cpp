@@ -208,7 +208,7 @@ void register_resize(CLI::App& app, int* exit_code) {
       ->check(CLI::IsMember(seam_energy_names()))
       ->capture_default_str();
   cmd->add_option("--seam-tolerance", args->seam_tolerance,
-                  "warn about seams mismatching by more than this (model units; 0: 3 x the sample spacing)")
+                  "list seams mismatching by more than this as over it (model units; 0: 3 x the sample spacing; an estimate: the result check says whether a seam is open)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--weld-tolerance", args->weld_tolerance,

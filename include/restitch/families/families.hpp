@@ -26,6 +26,8 @@
 //   railing         balusters alternating plain / with a ring: the period
 //                   is the pair.                                            m
 //   shutter         slats in two runs split by a middle rail.               m
+//   tube_rail       a closed round rail through posts; `jitter`, `twist`
+//                   make its copies differ slightly (no exact copies).      m
 //
 // Coordinates: y up, x along the first generator, z towards the viewer
 // (front faces at the largest z), model units as listed (m or mm).

@@ -519,6 +519,7 @@ const std::vector<SampleFamily>& families() {
       {radiator_info, radiator_check, radiator_build, 0.05, 1.0},
       {railing_info, railing_check, railing_build, 0.1, 1.0},
       {shutter_info, shutter_check, shutter_build, 0.05, 1.0},
+      {tube_rail_info, tube_rail_check, tube_rail_build, 0.05, 1.0},
   };
   return f;
 }

@@ -564,6 +564,113 @@ void railing_build(const ParameterValues& v, restitch::detail::SampleMeshBuilder
   }
 }
 
+
+// ---------------------------------------------------------------------------
+// tube_rail
+//
+// A round rail carried by square posts, as towel radiators and railings have: a closed tube of `sides`
+// flat faces along x, with a ring of vertices every half pitch, through a post in the middle of every
+// module. A modeller's copies are rarely exact: with `jitter`, every ring's radius differs from the
+// rail's by up to that fraction, and with `twist`, every ring is turned about the rail by up to that
+// fraction of a side (a pseudo-random amount per ring, the same for the same ring index at every count),
+// so two copies meeting at a seam are cut along lines that do not meet (docs/method.md 3, the zipper).
+// x: [start cap: the rail's end, `end` long] [module: a post, rings at 0 and half the pitch] x modules
+// [end cap: the rail's end].
+
+inline SampleInfo tube_rail_info() {
+  return {"tube_rail",
+          "A round rail through square posts, closed, whose rings of vertices may differ slightly from copy to "
+          "copy (--jitter, --twist). Repeats along x (posts).",
+          "m",
+          {{"modules", 4, 1, 60, true, "posts (repeats along x)"},
+           {"pitch", 0.25, 0.1, 1.0, false, "distance between posts (m)"},
+           {"radius", 0.02, 0.005, 0.05, false, "the rail's radius (m)"},
+           {"sides", 16, 6, 64, true, "flat faces around the rail"},
+           {"post", 0.05, 0.01, 0.12, false, "side of a post's square section (m)"},
+           {"height", 0.3, 0.1, 1.0, false, "height of the rail's axis above the posts' feet (m)"},
+           {"end", 0.06, 0.02, 0.3, false, "length of the rail past the first and last post's module (m)"},
+           {"jitter", 0, 0, 0.2, false, "each ring's radius differs by up to this fraction of the radius"},
+           {"twist", 0, 0, 1, false, "each ring is turned by up to this fraction of a side"},
+           {"detail", 1, 1, 64, true, "tessellation level: edges are cut every 0.1 m / detail"}}};
+}
+
+template <class = void>
+Status tube_rail_check(const ParameterValues& v) {
+  RESTITCH_TRY(constraint(v["post"] > 2 * v["radius"], "post must be more than twice the radius"));
+  return constraint(v["post"] < v["pitch"] / 2, "post must be less than half the pitch");
+}
+
+template <class = void>
+void tube_rail_build(const ParameterValues& v, restitch::detail::SampleMeshBuilder& B, SampleModel& out) {
+  const int n = v.count("modules"), sides = v.count("sides");
+  const double p = v["pitch"], r = v["radius"], post = v["post"], H = v["height"], e = v["end"];
+  const int steel = B.add_material(make_material("steel", 0.7f, 0.7f, 0.72f, 0.9f, 0.3f));
+  const int wood = B.add_material(make_material("posts", 0.45f, 0.3f, 0.18f, 0.0f, 0.7f));
+  const Blocks X{n};
+  out.origin = Vec3(e, 0, 0);
+  out.generators = {Vec3(p, 0, 0)};
+  out.count_parameters = {"modules"};
+  out.counts = {n};
+  out.modules = {n};
+  // Ring k (k = 0 at the start cap's inner end, 2n at the end cap's): a fixed pseudo-random amount in
+  // [-1, 1] per ring and kind, so a ring index gives the same ring at every count.
+  auto noise = [](int k, int kind) {
+    std::uint32_t h = std::uint32_t(k) * 2654435761u + std::uint32_t(kind) * 40503u + 12345u;
+    h ^= h >> 15, h *= 2246822519u, h ^= h >> 13;
+    return double(h % 20001u) / 10000.0 - 1.0;
+  };
+  auto ring = [&](int k, bool exact) {
+    std::vector<Vec3> q(static_cast<std::size_t>(sides));
+    const double rk = exact ? r : r * (1 + v["jitter"] * noise(k, 0));
+    const double turn = exact ? 0 : v["twist"] * noise(k, 1);
+    for (int i = 0; i < sides; ++i) {
+      const double t = 2 * M_PI * (i + turn) / sides;
+      q[std::size_t(i)] = Vec3(0, H + rk * std::cos(t), rk * std::sin(t));
+    }
+    return q;
+  };
+  auto tube = [&](const std::vector<Vec3>& a, double xa, const std::vector<Vec3>& b, double xb) {
+    for (int i = 0; i < sides; ++i) {
+      const int j = (i + 1) % sides;
+      const Vec3 dx(xa, 0, 0), ex(xb, 0, 0);
+      B.quad(a[std::size_t(i)] + dx, a[std::size_t(j)] + dx, b[std::size_t(j)] + ex, b[std::size_t(i)] + ex);
+    }
+  };
+  auto cap = [&](const std::vector<Vec3>& a, double x, bool low) {
+    const Vec3 c(x, H, 0), dx(x, 0, 0);
+    for (int i = 0; i < sides; ++i) {
+      const int j = (i + 1) % sides;
+      if (low)
+        B.triangle(c, a[std::size_t(j)] + dx, a[std::size_t(i)] + dx);
+      else
+        B.triangle(c, a[std::size_t(i)] + dx, a[std::size_t(j)] + dx);
+    }
+  };
+  for (int bx = -1; bx <= X.n; ++bx) {
+    B.set_material(steel);
+    if (!X.module(bx)) {  // the rail's end: from the end ring (exact) to ring 0 or 2n
+      const bool low = X.start(bx);
+      B.set_block(Vec3(low ? 0.0 : e + n * p, 0, 0), bx);
+      const std::vector<Vec3> outer = ring(0, true), inner = ring(low ? 0 : 2 * n, false);
+      if (low) {
+        tube(outer, 0, inner, e);
+        cap(outer, 0, true);
+      } else {
+        tube(inner, 0, outer, e);
+        cap(outer, e, false);
+      }
+      continue;
+    }
+    B.set_block(Vec3(e + bx * p, 0, 0), bx);
+    const std::vector<Vec3> a = ring(2 * bx, false), m = ring(2 * bx + 1, false), b = ring(2 * bx + 2, false);
+    B.set_material(steel);
+    tube(a, 0, m, p / 2);
+    tube(m, p / 2, b, p);
+    B.set_material(wood);
+    B.box(Vec3(p / 2 - post / 2, 0, -post / 2), Vec3(p / 2 + post / 2, H + post / 2, post / 2), box_all);
+  }
+}
+
 }  // namespace detail
 }  // namespace families
 }  // namespace restitch

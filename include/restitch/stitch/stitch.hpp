@@ -109,7 +109,11 @@
 // Parts (stitch/detail/): clip.hpp (polygon clipping against cell planes),
 // cache.hpp (the prepared cache), regions.hpp (regions of a labelling),
 // region_clip.hpp (one triangle into one region), output.hpp (the output
-// being built and its assembly), weld.hpp (welding).
+// being built and its assembly), weld.hpp (welding), tjunction.hpp (the
+// T-junction repair), zipper.hpp (strips between cut lines that do not quite
+// meet: after welding and the T-junction repair, seams whose two cut lines lie
+// within 1e-3 of the diagonal of each other are closed by triangles in the
+// seam plane between them; ClipStitcher::zip_seams).
 #pragma once
 
 #include <Eigen/Core>
@@ -133,6 +137,7 @@
 #include "restitch/stitch/detail/region_clip.hpp"
 #include "restitch/stitch/detail/regions.hpp"
 #include "restitch/stitch/detail/tjunction.hpp"
+#include "restitch/stitch/detail/zipper.hpp"
 #include "restitch/stitch/detail/weld.hpp"
 
 namespace restitch {
@@ -147,6 +152,7 @@ struct StitchReport {
   /// group, or attributes that differ): the surface closes, the attribute seam stays
   std::size_t seam_vertices_snapped = 0;
   std::size_t t_junction_edges_split = 0;  ///< boundary seam edges split at T-vertices (stitch/detail/tjunction.hpp)
+  std::size_t zip_triangles = 0;  ///< triangles added between the sides of seams that do not quite meet (zipper.hpp)
   std::size_t end_caps = 0;  ///< overhangs copied onto ends whose region is not anchored there (file comment)
   double ms = 0;                         ///< wall-clock time of the call (informative only)
 };
@@ -161,6 +167,9 @@ class ClipStitcher {
   double attribute_tolerance = 1e-4;  ///< per component, for welding (normals, tangents, UVs, colours)
   bool weld = true;                   ///< weld coincident seam vertices
   bool repair_t_junctions = true;     ///< after welding, split boundary seam edges at T-vertices (needs weld)
+  /// then close what stays open where the two sides' cut lines lie within 1e-3 of the diagonal of each
+  /// other with a strip of triangles in the seam plane (stitch/detail/zipper.hpp; needs weld)
+  bool zip_seams = true;
 
   /// Largest grid (input or output) accepted, in cells.
   static constexpr std::int64_t max_cells = std::int64_t(1) << 24;
@@ -285,6 +294,8 @@ class ClipStitcher {
     if (weld && repair_t_junctions)
       report.t_junction_edges_split =
           detail::repair_t_junctions(output, in, cache, layout, float(attribute_tolerance), tol, rep_of);
+    if (weld && zip_seams)
+      report.zip_triangles = detail::zip_seams(output, cache, 1e-3 * cache.diagonal(), rep_of);
     output.assemble(rep_of, out);
   }
 

@@ -40,6 +40,8 @@ class ClipStitchCache {
   const Lattice& lattice() const { return lattice_; }
   /// Snapping / sliver tolerance in model units.
   double tolerance() const { return tol_; }
+  /// The input's bounding-box diagonal, model units.
+  double diagonal() const { return diagonal_; }
 
   // Read by the stitcher's parts (stitch/detail/).
   double max_abs_coord() const { return max_abs_coord_; }
@@ -67,6 +69,7 @@ class ClipStitchCache {
   const Mesh* mesh_ = nullptr;
   Lattice lattice_;
   double tol_ = 0;
+  double diagonal_ = 0;
   double max_abs_coord_ = 0;
   std::vector<double> canon_;
   std::vector<std::int32_t> range_;
@@ -83,6 +86,7 @@ Status ClipStitchCache::build(const Mesh& in, const Lattice& lattice, double tol
   mesh_ = &in;  // read by the helpers below; reset on failure
   lattice_ = lattice;
   tol_ = tol;
+  diagonal_ = bounding_box(in).size().norm();
   max_abs_coord_ = max_abs_coordinate(in);
   canonical_coordinates(lattice.A.inverse());
   const Status s = bucket_triangles(max_bucket_entries);
