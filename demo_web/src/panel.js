@@ -60,6 +60,11 @@ export function figureRows({ model: m, analysis: a, retarget: r, shown, analysis
   if (r) {
     const rep = r.result.report;
     rows.push(['size out', `${vfmt(rep.size_out)} ${m.units}`]);
+    if (rep.checked)
+      rows.push(['check', rep.warnings.length
+        ? rep.warnings.map((w) => w.check).join(', ') + (rep.boundary_edges.new ? ` (${rep.boundary_edges.new} open edges, in red)` : '')
+        : 'passed']);
+    for (const w of rep.warnings) rows.push([w.check, w.message]);
     rows.push(['label space', `${rep.label_space}, ${rep.cells_out.join(' × ')} cells`]);
     rows.push(['nodes', `${rep.nodes}`]);
     rows.push(['labels', `${rep.labels}`]);
@@ -69,11 +74,6 @@ export function figureRows({ model: m, analysis: a, retarget: r, shown, analysis
       rows.push(['worst seam', `${fmt(rep.max_seam_mismatch, 3)} ${m.units} (tolerance ` +
                  `${fmt(rep.seam_tolerance, 3)})` + (over ? `: ${over} over, in red` : '')]);
     }
-    if (rep.checked)
-      rows.push(['check', rep.warnings.length
-        ? rep.warnings.map((w) => w.check).join(', ') + (rep.boundary_edges.new ? ` (${rep.boundary_edges.new} open edges, in red)` : '')
-        : 'passed']);
-    for (const w of rep.warnings) rows.push([w.check, w.message]);
     rows.push(['solve', `${fmt(rep.timings_ms.solve || 0, 3)} ms (energy ${fmt(rep.timings_ms.energy || 0, 3)} ms, ` +
                         `stitch ${fmt(rep.timings_ms.stitch || 0, 3)} ms)`]);
     rows.push(['resize', `${fmt(r.pageMs, 3)} ms in the page (${fmt(r.ms, 3)} ms in the worker)`]);
