@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "restitch/detail/cell_hash.hpp"
+#include "restitch/detail/triangle_surface.hpp"
 #include "restitch/lattice/grid.hpp"
 #include "restitch/lattice/lattice.hpp"
 #include "restitch/lattice/structure.hpp"
@@ -107,13 +108,6 @@ std::vector<BoundingBox> touching_groups(const Mesh& m, double weld, double cont
   return result;
 }
 
-template <class = void>
-double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d d = b - a;
-  const double l2 = d.squaredNorm();
-  const double t = l2 > 0 ? std::clamp((p - a).dot(d) / l2, 0.0, 1.0) : 0.0;
-  return (a + t * d - p).norm();
-}
 
 /// How n periods along each lattice axis change a box: by |A_a n_a| per world axis, with n_a's sign.
 template <class = void>
@@ -184,8 +178,8 @@ struct InputShape {
           const std::vector<std::uint32_t>* list = grid.find(detail::Cell{{c[0] + dx, c[1] + dy, c[2] + dz}});
           if (!list) continue;
           for (const std::uint32_t i : *list)
-            if (detail::segment_distance(p, edge_a[i], edge_b[i]) <= tol &&
-                detail::segment_distance(q, edge_a[i], edge_b[i]) <= tol)
+            if ((detail::closest_point_on_segment(p, edge_a[i], edge_b[i]) - p).norm() <= tol &&
+                (detail::closest_point_on_segment(q, edge_a[i], edge_b[i]) - q).norm() <= tol)
               return true;
         }
     return false;

@@ -44,6 +44,7 @@
 #include <utility>
 #include <vector>
 
+#include "restitch/detail/triangle_surface.hpp"
 #include "restitch/mesh.hpp"
 #include "restitch/stitch/detail/cache.hpp"
 #include "restitch/stitch/detail/output.hpp"
@@ -190,12 +191,8 @@ std::size_t zip_seams(StitchOutput& o, const ClipStitchCache& cache, double gap,
   // 3. Partners.
   auto polyline_distance = [&](const Eigen::Vector3d& p, const Chain& c) {
     double best = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < c.from.size(); ++i) {
-      const Eigen::Vector3d a = pos(c.from[i]), b = pos(c.to[i]), d = b - a;
-      const double l2 = d.squaredNorm();
-      const double t = l2 > 0 ? std::clamp((p - a).dot(d) / l2, 0.0, 1.0) : 0.0;
-      best = std::min(best, (a + t * d - p).norm());
-    }
+    for (std::size_t i = 0; i < c.from.size(); ++i)
+      best = std::min(best, (closest_point_on_segment(p, pos(c.from[i]), pos(c.to[i])) - p).norm());
     return best;
   };
   auto hausdorff = [&](const Chain& a, const Chain& b) {
