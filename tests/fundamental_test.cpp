@@ -118,3 +118,25 @@ TEST_CASE("short periods: 40 slats 2.5 dense spacings apart are found on finer s
   REQUIRE(coarse);
   CHECK_FALSE(has_pitch(*coarse));
 }
+
+// A period plus a slide along a direction in which the model is uniform is that period (docs/method.md
+// 1.5, the slide test): a radiator's sections are uniform vertically, so the section pitch plus any height
+// overlaps as well as the pitch; at 6 sections such an offset had 11 votes and passed every other test,
+// and became a second principal offset. At every count the pitch is the only one.
+TEST_CASE("analysis: a period plus a slide along a uniform direction is that period, not a second offset",
+          "[analysis][samples]") {
+  for (const int n : {3, 4, 5, 6, 7, 8, 10}) {
+    INFO(n << " sections");
+    auto s = restitch::families::generate("radiator", {{"sections", n}});
+    REQUIRE(s.ok());
+    auto a = restitch::analyze(s->mesh);
+    REQUIRE(a.ok());
+    REQUIRE(a->principal.size() == 1);
+    CHECK((a->principal_model_units()[0].cwiseAbs() - s->generators[0].cwiseAbs()).norm() < 1e-4);
+    for (const restitch::DominantOffset& d : a->dominant) {
+      const Eigen::Vector3d t = a->normalization.to_model_offset(d.offset);
+      // An offset one pitch along x and clearly off the x axis is a slide: never significant.
+      if (std::abs(std::abs(t.x()) - 0.07) < 1e-3 && std::abs(t.y()) > 0.01) CHECK_FALSE(d.significant);
+    }
+  }
+}

@@ -91,6 +91,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -134,6 +135,9 @@ struct DominantOffset {
   double overlap_double = 0;        ///< overlap(2 t)
   double contrast_double = 0;       ///< contrast at 2 t
   double axis_contrast_double = 0;  ///< least contrast at 2 t along t and the world axes (if tested)
+  /// t without its components along the world axes in which the overlap at t is flat (a slide: the
+  /// model is uniform that way, so t plus any shift along it overlaps as well); t itself when none is.
+  Eigen::Vector3d unslid = Eigen::Vector3d::Zero();
   double double_drift = 0;          ///< |refine(2 t) - 2 t|
   int iterations = 0;               ///< ICP iterations
   bool significant = false;
@@ -374,11 +378,34 @@ Status refine_and_test(const OffsetEvidence& ev, const std::vector<OffsetCandida
       }
       ok = test("axis_contrast_double", d.axis_contrast_double, tests.min_contrast);
     }
+    // Slides: along a world axis in which t has a component, an overlap at t no higher than beside it.
+    d.unslid = r.offset;
+    if (ok)
+      for (int axis = 0; axis < 3; ++axis) {
+        if (std::abs(r.offset[axis]) <= radius) continue;
+        const Eigen::Vector3d step = Eigen::Vector3d::Unit(axis) * (2 * radius);
+        const double flat = r.overlap - 0.5 * (aligner.overlap(r.offset - step) + aligner.overlap(r.offset + step));
+        if (flat < tests.min_contrast) d.unslid[axis] = 0;
+      }
     d.significant = ok;
   };
   if (!detail::parallel_tasks(threads, kept.size(), test_one,
                               [&](std::size_t done) { return tick(0.5, done, kept.size()); }))
     return error(StatusCode::cancelled, "cancelled during offset refinement");
+  // An offset that is another significant offset plus a slide is that offset: the radiator's section
+  // pitch plus any height (a uniform vertical section slides onto its neighbour at every height).
+  for (std::size_t e = 0; e < kept.size(); ++e) {
+    DominantOffset& d = tested[e];
+    if (!d.significant || (d.unslid - d.offset).norm() <= radius) continue;
+    double nearest = std::numeric_limits<double>::infinity();
+    const auto near = [&](const DominantOffset& o) {
+      if (&o == &d || !o.significant) return;
+      nearest = std::min({nearest, (o.offset - d.unslid).norm(), (o.offset + d.unslid).norm()});
+    };
+    for (const DominantOffset& o : out) near(o);
+    for (const DominantOffset& o : tested) near(o);
+    d.significant = record_test(d.tests, "slide", nearest, radius);
+  }
   std::vector<std::pair<std::size_t, std::size_t>> failed;  // (index in out, index in todo)
   for (std::size_t e = 0; e < kept.size(); ++e) {
     if (!tested[e].significant) failed.emplace_back(out.size(), kept[e]);  // for the part test below
