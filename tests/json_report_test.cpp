@@ -150,7 +150,7 @@ TEST_CASE("retarget_json: keys and values of a hand-made report", "[json]") {
   r.triangles_out = 777;
   r.vertices_out = 999;
   r.checked = true;
-  r.boundary_edges_new = 2;
+  r.open_edges.assign(2, {Eigen::Vector3f::Zero(), Eigen::Vector3f::UnitX()});
   r.warnings.push_back({"open seam", "2 edge(s) of the output are open"});
   r.boundary_edges_in = 11;
   r.boundary_edges_out = 13;

@@ -119,7 +119,7 @@ nlohmann::json retarget_json(const RetargetReport& r) {
   j["checked"] = r.checked;
   j["boundary_edges"] = r.checked ? nlohmann::json{{"in", r.boundary_edges_in},
                                                    {"out", r.boundary_edges_out},
-                                                   {"new", r.boundary_edges_new}}
+                                                   {"new", r.boundary_edges_new()}}
                                   : nlohmann::json(nullptr);
   j["weld_tolerance"] = {{"relative", r.weld_tolerance}, {"measured", r.weld_tolerance_measured}};
   const Placement& p = r.placement;

@@ -189,7 +189,7 @@ struct InputShape {
 /// The result check (see the file comment) of `out`, stitched on `grid` (input space; the output was then
 /// moved by rep.placement.translation) from the shifts `shift` (one per output cell, linear order) with the
 /// grid steps rep.grid_steps; `structure` (null for none) is what occurs once. Fills rep.boundary_edges_out,
-/// rep.boundary_edges_new and rep.open_edges, and appends a warning per failed check.
+/// and rep.open_edges, and appends a warning per failed check.
 template <class = void>
 void check_result(const InputShape& input, const Mesh& out, const Lattice& grid, const std::vector<Eigen::Array3i>& shift,
                   const CellStructure* structure, RetargetReport& rep) {
@@ -209,19 +209,17 @@ void check_result(const InputShape& input, const Mesh& out, const Lattice& grid,
       for (const int z : along[2]) moves.push_back(grid.shift(Eigen::Array3i(x, y, z)) + rep.placement.translation);
   const std::vector<BoundaryEdge> open = boundary_edges_at(out, weld_tolerance_of(out, 1e-6));
   rep.boundary_edges_out = open.size();
-  rep.boundary_edges_new = 0;
   rep.open_edges.clear();
   for (const BoundaryEdge& e : open) {
     const Eigen::Vector3d p = out.V.row(e.a).cast<double>().transpose(), q = out.V.row(e.b).cast<double>().transpose();
     bool own = false;
     for (std::size_t i = 0; i < moves.size() && !own; ++i) own = input.on_open_edge(p - moves[i], q - moves[i]);
     if (own) continue;
-    ++rep.boundary_edges_new;
     rep.open_edges.push_back({p.cast<float>(), q.cast<float>()});
   }
-  if (rep.boundary_edges_new > 0) {
+  if (rep.boundary_edges_new() > 0) {
     const Eigen::Vector3d at = 0.5 * (rep.open_edges[0][0] + rep.open_edges[0][1]).cast<double>();
-    rep.warnings.push_back({"open seam", std::to_string(rep.boundary_edges_new) +
+    rep.warnings.push_back({"open seam", std::to_string(rep.boundary_edges_new()) +
                                              " edge(s) of the output are open where the input is closed (the copies "
                                              "meeting at a seam do not continue each other), the first near " +
                                              detail::format_point(at)});

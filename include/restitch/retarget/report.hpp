@@ -82,11 +82,11 @@ struct RetargetReport {
   double sample_spacing = 0;  ///< model units (CellSlabs::spacing)
   /// What a modeller should look at (see ResultWarning); empty when the result passed every check.
   std::vector<ResultWarning> warnings;
-  /// Whether the result check ran (RetargetOptions::check), and what it counted: the output's open edges
-  /// that are no copy of the input's own (boundary_edges_new) and each one's two corners (output space).
+  /// Whether the result check ran (RetargetOptions::check), and the output's open edges that are no copy
+  /// of the input's own, each as its two corners (output space).
   bool checked = false;
-  std::size_t boundary_edges_new = 0;
   std::vector<std::array<Eigen::Vector3f, 2>> open_edges;
+  std::size_t boundary_edges_new() const { return open_edges.size(); }
   /// The parts that occur once along the resized axes, as kept (RetargetOptions::keep_parts).
   std::vector<PartReport> parts;
   /// Where the planes between output cells lie (docs/method.md 2.9): plane_offsets[a][i], i = 0 ..
