@@ -73,7 +73,7 @@ void check_row(const DescriptorMatrix& D, Eigen::Index i, const std::vector<std:
 
 /// Uniform float in [0, 1) from the raw engine output (24 random bits), so the
 /// numbers do not depend on the standard library's distributions.
-float unit(std::mt19937_64& rng) { return static_cast<float>(rng() >> 40) * (1.0f / 16777216.0f); }
+float unit_f(std::mt19937_64& rng) { return static_cast<float>(rng() >> 40) * (1.0f / 16777216.0f); }
 
 std::string temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("restitch_descriptor_test_" + name)).string();
@@ -315,12 +315,12 @@ TEST_CASE("SHOT and FPFH are unchanged by an exact translation", "[descriptor]")
   a.points.resize(n, 3);
   a.normals.resize(n, 3);
   for (int i = 0; i < n; ++i) {
-    const float u = std::floor(unit(rng) * 64) / 64, v = std::floor(unit(rng) * 64) / 64;
+    const float u = std::floor(unit_f(rng) * 64) / 64, v = std::floor(unit_f(rng) * 64) / 64;
     const int face = static_cast<int>(rng() % 3);
     if (face == 0) a.points.row(i) << u, v, 0;
     if (face == 1) a.points.row(i) << u, 0, v;
     if (face == 2) a.points.row(i) << u, v, std::floor(std::abs(u - 0.5f) * 32) / 64;
-    Eigen::Vector3f nrm(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) + 0.1f);
+    Eigen::Vector3f nrm(unit_f(rng) - 0.5f, unit_f(rng) - 0.5f, unit_f(rng) + 0.1f);
     a.normals.row(i) = nrm.normalized().transpose();
   }
   PointSet b = a;
@@ -474,7 +474,7 @@ PointSet oracle_cloud(std::uint64_t seed, int n) {
   ps.points.resize(n, 3);
   ps.normals.resize(n, 3);
   for (int i = 0; i < n; ++i) {
-    const float a = unit(rng) - 0.5f, b = unit(rng) - 0.5f;
+    const float a = unit_f(rng) - 0.5f, b = unit_f(rng) - 0.5f;
     const int face = static_cast<int>(rng() % 8);
     Eigen::Vector3f p, nrm;
     if (face < 6) {  // box [-0.5, 0.5]^3
@@ -493,7 +493,7 @@ PointSet oracle_cloud(std::uint64_t seed, int n) {
       p = Eigen::Vector3f(1.2f + 0.5f * a, b, 0.3f * a);
       nrm = Eigen::Vector3f(-0.3f, 0, 1);
     }
-    nrm += 0.1f * Eigen::Vector3f(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f);
+    nrm += 0.1f * Eigen::Vector3f(unit_f(rng) - 0.5f, unit_f(rng) - 0.5f, unit_f(rng) - 0.5f);
     ps.points.row(i) = p.transpose();
     ps.normals.row(i) = nrm.normalized().transpose();
   }

@@ -8,6 +8,7 @@
 #include <random>
 #include <set>
 
+#include "support/sampled_shapes.hpp"
 #include "support/surface_distance.hpp"
 
 using restitch::Mesh;
@@ -15,6 +16,7 @@ using restitch::StatusCode;
 using restitch::families::generate;
 using restitch::families::SampleModel;
 using restitch::test::symmetric_surface_distance;
+using restitch::test::unit;
 using Vec3 = Eigen::Vector3d;
 
 namespace {
@@ -433,8 +435,6 @@ Mesh box_mesh(const Vec3& lo, const Vec3& hi, double cell, unsigned faces = rest
   return m;
 }
 
-// A double in [0, 1) from the raw engine output (distributions differ between standard libraries).
-double unit(std::mt19937_64& rng) { return double(rng() >> 11) * (1.0 / 9007199254740992.0); }
 
 }  // namespace
 

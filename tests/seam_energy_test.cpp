@@ -12,6 +12,7 @@
 #include <set>
 #include <utility>
 #include <vector>
+#include "support/unit_grid.hpp"
 
 using restitch::Analysis;
 using restitch::CellDescriptors;
@@ -22,6 +23,8 @@ using restitch::SeamMrf;
 using restitch::SetDistance;
 
 namespace {
+
+using restitch::test::unit_grid;
 
 // One feature: a position in MODEL units and its descriptor.
 struct Feature {
@@ -47,13 +50,6 @@ Analysis hand_analysis(const std::vector<Feature>& poisson, const std::vector<Fe
   }
   a.sampled_features = poisson.size();
   return a;
-}
-
-// An axis-aligned unit-cell grid of `cells` at the origin.
-Lattice unit_grid(const Eigen::Array3i& cells) {
-  Lattice L;
-  L.cells = cells;
-  return L;
 }
 
 // The model-space centre of cell c of the unit grid (x offset within the cell).

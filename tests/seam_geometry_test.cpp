@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "restitch/energy/seam_energy.hpp"
+#include "support/unit_grid.hpp"
 
 using restitch::Analysis;
 using restitch::CellSlabs;
@@ -19,6 +20,8 @@ using restitch::SeamMrf;
 
 namespace {
 
+using restitch::test::unit_grid;
+
 // An Analysis holding only what CellSlabs reads: the dense samples (model units = normalized here).
 Analysis dense_analysis(const std::vector<Eigen::Vector3d>& points) {
   Analysis a;
@@ -26,12 +29,6 @@ Analysis dense_analysis(const std::vector<Eigen::Vector3d>& points) {
   a.dense.normals = restitch::MatrixX3f::Zero(Eigen::Index(points.size()), 3);
   for (std::size_t i = 0; i < points.size(); ++i) a.dense.points.row(Eigen::Index(i)) = points[i].cast<float>().transpose();
   return a;
-}
-
-Lattice unit_grid(const Eigen::Array3i& cells) {
-  Lattice L;
-  L.cells = cells;
-  return L;
 }
 
 // Cells along x, each holding the plane z = 0.5 + shift[c] sampled on a 0.05 grid in x and y.
