@@ -223,10 +223,13 @@ std::size_t badly_oriented_edges(const Mesh& m, double tol) {
 // the check, and lies within the copies' differences of the exact rail at that count.
 TEST_CASE("check: a closed rail whose copies differ slightly stays closed at every count, zipped",
           "[check][stitch][samples]") {
-  const std::map<std::string, double> inexact = {{"jitter", 0.05}, {"twist", 0.5}};
-  for (const int n : {3, 5}) {  // at 2, two copies that differ are no repeat: no principal offset
-    std::map<std::string, double> params = inexact;
+  // Rings jittered and turned: two cut lines apart all round. Pinched: every other vertex exact, so the
+  // welded cut lines touch there and run as one chain out along one side and back along the other.
+  for (const int n : {3, 5})  // at 2, two copies that differ are no repeat: no principal offset
+  for (const double pinch : {0.0, 1.0}) {
+    std::map<std::string, double> params = {{"jitter", 0.05}, {"twist", 0.5}, {"pinch", pinch}};
     params["modules"] = n;
+    INFO("pinch " << pinch);
     auto sample = families::generate("tube_rail", params);
     REQUIRE(sample.ok());
     REQUIRE(boundary_edge_count(sample->mesh) == 0);

@@ -574,6 +574,8 @@ void railing_build(const ParameterValues& v, restitch::detail::SampleMeshBuilder
 // rail's by up to that fraction, and with `twist`, every ring is turned about the rail by up to that
 // fraction of a side (a pseudo-random amount per ring, the same for the same ring index at every count),
 // so two copies meeting at a seam are cut along lines that do not meet (docs/method.md 3, the zipper).
+// With `pinch`, every other vertex of a ring keeps its exact place, so the two cut lines meet at those
+// vertices and part between them (a row of slits rather than two separate loops).
 // x: [start cap: the rail's end, `end` long] [module: a post, rings at 0 and half the pitch] x modules
 // [end cap: the rail's end].
 
@@ -591,6 +593,7 @@ inline SampleInfo tube_rail_info() {
            {"end", 0.06, 0.02, 0.3, false, "length of the rail past the first and last post's module (m)"},
            {"jitter", 0, 0, 0.2, false, "each ring's radius differs by up to this fraction of the radius"},
            {"twist", 0, 0, 1, false, "each ring is turned by up to this fraction of a side"},
+           {"pinch", 0, 0, 1, true, "1: every other vertex of a ring stays exact (the copies meet there)"},
            {"detail", 1, 1, 64, true, "tessellation level: edges are cut every 0.1 m / detail"}}};
 }
 
@@ -623,9 +626,11 @@ void tube_rail_build(const ParameterValues& v, restitch::detail::SampleMeshBuild
     std::vector<Vec3> q(static_cast<std::size_t>(sides));
     const double rk = exact ? r : r * (1 + v["jitter"] * noise(k, 0));
     const double turn = exact ? 0 : v["twist"] * noise(k, 1);
+    const bool pinch = v.count("pinch") == 1;
     for (int i = 0; i < sides; ++i) {
-      const double t = 2 * M_PI * (i + turn) / sides;
-      q[std::size_t(i)] = Vec3(0, H + rk * std::cos(t), rk * std::sin(t));
+      const bool kept = pinch && i % 2 == 0;
+      const double t = 2 * M_PI * (i + (kept ? 0 : turn)) / sides, ri = kept ? r : rk;
+      q[std::size_t(i)] = Vec3(0, H + ri * std::cos(t), ri * std::sin(t));
     }
     return q;
   };

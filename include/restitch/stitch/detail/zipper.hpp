@@ -14,13 +14,17 @@
 //
 //   1. Open seam edges: edges of the faces, with both corners seam vertices (cut vertices, or copies of
 //      input vertices on a cell plane), used by exactly one face, directed as that face runs them.
-//   2. Chains: the open seam edges followed head to tail (a vertex with two outgoing open edges ends the
-//      chains through it), open or closed. A chain with no cut vertex is the input's own open edge copied
-//      (it is left open: the input has it).
+//   2. Chains: the open seam edges followed head to tail through positions with one open edge in and one
+//      out (any other position ends the chains through it), open or closed. A chain with no cut vertex is
+//      the input's own open edge copied (it is left open: the input has it).
 //   3. Partners: a chain and another, of the same group, running the other way (open chains: each one's
 //      start within the gap of the other's end; closed ones: their vector areas point opposite ways), with
 //      every vertex of each within the gap of the other's polyline. The nearest such chain (by that
 //      Hausdorff distance; the first in chain order on a tie) that is not taken yet.
+//      Where the two sides touch (the weld joined a vertex of each, or a short edge joins them), they run
+//      as one chain, out along one side and back along the other: a slit. A chain left without a partner
+//      is cut at its tips (the point farthest from its start, or a closed chain's farthest pair of
+//      points) and its two halves are partners if they pass the same test.
 //   4. The strip: the two lines walked together from a matched start (open chains: their ends; closed:
 //      the other's vertex nearest the first's first vertex), each step advancing the line whose next
 //      vertex makes the shorter diagonal (the classic contour-stitching rule). Each triangle runs the
@@ -137,41 +141,36 @@ std::size_t zip_seams(StitchOutput& o, const ClipStitchCache& cache, double gap,
     }
   };
   std::vector<Chain> chains;
-  std::vector<char> used(ids.size(), 0);
-  auto ok = [&](std::uint32_t a) { return out_degree[a] == 1 && in_degree[a] <= 1; };
-  auto walk = [&](std::uint32_t start) {
+  // A position with one open edge in and one out continues a chain; any other ends the chains through it
+  // (where the two sides of a slit touch, two edges go in and two out).
+  auto simple = [&](std::uint32_t a) { return out_degree[a] == 1 && in_degree[a] == 1; };
+  std::vector<char> taken(open.size(), 0);
+  auto walk = [&](std::uint32_t first) {
     Chain c;
-    c.group = open[edge_at[start]].group;
+    c.group = open[first].group;
+    const std::uint32_t start = id(open[first].from);
     bool clean = true;
-    for (std::uint32_t a = start;;) {
-      used[a] = 1;
-      if (out_degree[a] == 0) {  // the end of an open chain
-        clean = in_degree[a] == 1;
-        break;
-      }
-      const Use& e = open[edge_at[a]];
-      if (!ok(a) || e.group != c.group) {
+    for (std::uint32_t e = first;;) {
+      if (taken[e] || open[e].group != c.group) {
         clean = false;
         break;
       }
-      c.from.push_back(e.from), c.to.push_back(e.to);
-      const std::uint32_t b = id(e.to);
+      taken[e] = 1;
+      c.from.push_back(open[e].from), c.to.push_back(open[e].to);
+      const std::uint32_t b = id(open[e].to);
+      if (!simple(b)) break;  // the end of an open chain
       if (b == start) {
         c.closed = true;
         break;
       }
-      if (used[b]) {
-        clean = false;
-        break;
-      }
-      a = b;
+      e = edge_at[b];
     }
     if (clean && c.from.size() >= (c.closed ? 3u : 1u)) chains.push_back(std::move(c));
   };
-  for (std::uint32_t a = 0; a < ids.size(); ++a)
-    if (in_degree[a] == 0 && out_degree[a] == 1) walk(a);  // open chains from their starts
-  for (std::uint32_t a = 0; a < ids.size(); ++a)
-    if (!used[a] && ok(a)) walk(a);  // what is left: closed chains
+  for (std::uint32_t e = 0; e < open.size(); ++e)
+    if (!taken[e] && !simple(id(open[e].from))) walk(e);  // open chains, from their starts
+  for (std::uint32_t e = 0; e < open.size(); ++e)
+    if (!taken[e]) walk(e);  // what is left: closed chains
   std::vector<Chain> cut;  // only chains a seam cut (with a cut vertex)
   for (Chain& c : chains) {
     if (std::none_of(c.from.begin(), c.from.end(), [&](std::uint32_t v) { return o.is_cut(v); }) &&
@@ -229,6 +228,45 @@ std::size_t zip_seams(StitchOutput& o, const ClipStitchCache& cache, double gap,
       if (h <= best_h && (best == none || h < best_h)) best = j, best_h = h;
     }
     if (best != none) partner[i] = best, partner[best] = i;
+  }
+  // 3b. Slits: where the two sides touch (a vertex or a short edge of one welded to the other's), they run
+  // as one chain that goes out along one side and back along the other, closed if they touch at both
+  // ends. Such a chain without a partner is cut in two at its far point (the farthest from its start, or
+  // for a closed chain the farthest pair of its points, a slit's two tips), and the halves are partners
+  // if they pass the test of step 3.
+  const std::size_t unsplit = cut.size();
+  for (std::uint32_t i = 0; i < unsplit; ++i) {
+    if (partner[i] != none || cut[i].from.size() < 2) continue;
+    const Chain& c = cut[i];
+    const std::size_t n = c.points();
+    std::size_t tip_a = 0, tip_b = 0;
+    double far = -1;
+    for (std::size_t a = 0; a < (c.closed ? n : 1); ++a)
+      for (std::size_t b = a + 1; b < n; ++b) {
+        const double d = (pos(c.point(a)) - pos(c.point(b))).squaredNorm();
+        if (d > far) far = d, tip_a = a, tip_b = b;
+      }
+    if (!c.closed && (pos(c.point(0)) - pos(c.point(n - 1))).norm() > gap) continue;
+    auto half = [&](std::size_t first_edge, std::size_t edges) {  // edges first_edge .. (mod a closed chain's)
+      Chain h;
+      h.group = c.group;
+      for (std::size_t k = 0; k < edges; ++k) {
+        const std::size_t e = (first_edge + k) % c.from.size();
+        h.from.push_back(c.from[e]), h.to.push_back(c.to[e]);
+      }
+      if (edges == 0) return h;
+      h.lo = h.hi = pos(h.point(0));
+      for (std::size_t k = 1; k < h.points(); ++k) h.lo = h.lo.cwiseMin(pos(h.point(k))), h.hi = h.hi.cwiseMax(pos(h.point(k)));
+      h.area.setZero();
+      return h;
+    };
+    Chain first = half(tip_a, tip_b - tip_a);
+    Chain second = half(tip_b, c.from.size() - (tip_b - tip_a) - (c.closed ? 0 : tip_a));
+    if (first.from.empty() || second.from.empty() || hausdorff(first, second) > gap) continue;
+    const std::uint32_t j = std::uint32_t(cut.size());
+    cut.push_back(std::move(first));
+    cut.push_back(std::move(second));
+    partner.push_back(j + 1), partner.push_back(j);
   }
 
   // 4. The strips.
