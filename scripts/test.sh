@@ -58,7 +58,7 @@ stage "WebAssembly (Emscripten) build of the tests, under node"
 if build build/wasm "restitch_tests restitch_web" \
     -DCMAKE_TOOLCHAIN_FILE=/usr/share/emscripten/cmake/Modules/Platform/Emscripten.cmake \
     -DCMAKE_BUILD_TYPE=Release -DRESTITCH_BUILD_EXAMPLES=OFF -DRESTITCH_BUILD_BENCH=OFF -DRESTITCH_BUILD_WEB=ON \
-    "-DCMAKE_CROSSCOMPILING_EMULATOR=/usr/bin/node;--no-experimental-fetch"; then
+    -DCMAKE_CROSSCOMPILING_EMULATOR=/usr/bin/node; then
   run_ctest build/wasm
 fi
 

@@ -2,9 +2,11 @@
 # consumer program (consumer/main.cpp: glTF round trip, analysis, one resize):
 #   1. cmake --install to a prefix (the README's commands: tests, examples and bench off; the tool is
 #      built and installed), then find_package(restitch) from a consumer project, linking
-#      restitch::restitch (header-only) and restitch::compiled;
+#      restitch::compiled (which carries restitch::restitch's interface);
 #   2. add_subdirectory of the source tree, header-only (restitch::compiled is then not built);
 #   3. plain compiler flags: -I include and the Debian packages' headers, header-only.
+# With -DTOOLCHAIN=<Emscripten's toolchain file>, only way 2, configured with that toolchain as
+# `emcmake cmake` does, its program run by plain node.
 # Fails naming the step that failed.
 file(REMOVE_RECURSE "${WORK_DIR}")
 file(MAKE_DIRECTORY "${WORK_DIR}")
@@ -16,13 +18,22 @@ function(run)
   set(LAST_OUTPUT "${out}" PARENT_SCOPE)
 endfunction()
 function(expect_ok program)
-  run("${program}" "${WORK_DIR}/out.glb")
+  run(${program} "${WORK_DIR}/out.glb")
   if(NOT LAST_OUTPUT MATCHES "consumer ok")
     message(FATAL_ERROR "${program} did not report success: ${LAST_OUTPUT}")
   endif()
   message(STATUS "${program}: ${LAST_OUTPUT}")
 endfunction()
 set(jobs -j 2)
+
+if(TOOLCHAIN)
+  find_program(NODE node REQUIRED)
+  run(${CMAKE_COMMAND} -S "${SOURCE_DIR}/tests/install/subdirectory" -B "${WORK_DIR}/subdirectory" -G "${GENERATOR}"
+      -DCMAKE_BUILD_TYPE=Release "-DCMAKE_TOOLCHAIN_FILE=${TOOLCHAIN}" "-DRESTITCH_SOURCE_DIR=${SOURCE_DIR}")
+  run(${CMAKE_COMMAND} --build "${WORK_DIR}/subdirectory" ${jobs})
+  expect_ok("${NODE};${WORK_DIR}/subdirectory/consumer.js")
+  return()
+endif()
 
 # 1. Installed package.
 run(${CMAKE_COMMAND} -S "${SOURCE_DIR}" -B "${WORK_DIR}/lib" -G "${GENERATOR}" -DCMAKE_BUILD_TYPE=Release
@@ -38,7 +49,6 @@ run("${WORK_DIR}/prefix/bin/restitch" sample pin_header -o "${WORK_DIR}/tool.glb
 run(${CMAKE_COMMAND} -S "${SOURCE_DIR}/tests/install/consumer" -B "${WORK_DIR}/consumer" -G "${GENERATOR}"
     -DCMAKE_BUILD_TYPE=Release "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix")
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/consumer" ${jobs})
-expect_ok("${WORK_DIR}/consumer/consumer")
 expect_ok("${WORK_DIR}/consumer/consumer_compiled")
 
 # 2. From the source tree, header-only.
