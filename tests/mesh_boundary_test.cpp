@@ -165,6 +165,7 @@ TEST_CASE("stitch: a T-junction on a seam is split, so a closed input stays clos
   const std::vector<Eigen::Array3i> labels = {{0, 0, 0}, {0, 0, 0}, {1, 0, 0}, {1, 0, 0}};
   restitch::ClipStitcher with, without;
   without.repair_t_junctions = false;
+  without.zip_seams = false;  // the strips would close it too, with a triangle of no area
   Mesh out, out_plain, again;
   restitch::StitchReport rep, rep_plain, rep_again;
   REQUIRE(without.stitch(in, lat, {4, 1, 1}, labels, out_plain, rep_plain).ok());

@@ -744,3 +744,51 @@ TEST_CASE("stitch: seam vertices within the tolerance that may not weld (normals
   CHECK(restitch::boundary_edge_count(out) == 8);  // the strip's outline: 3 + 3 + 1 + 1
   CHECK(restitch::validate(out).ok());
 }
+
+TEST_CASE("stitch: a seam along existing edges whose sides are tessellated differently is zipped", "[stitch]") {
+  // A closed square bar along x, 4 cells of pitch 1, cross-section [0.2, 0.8]^2 in y and z. The copies
+  // differ in one place: the ring of edges at x = 2 has one more vertex, m, on its top side, raised
+  // by d above it. Both cells beside x = 2 use m, so the input is closed. Grown by one cell, the
+  // output's x = 3 joins input cell 2's right end (top side plain) to its left end (top side through
+  // m): the seam runs along existing edges (no vertex is cut), and m, d off the plain side, is
+  // farther than the weld tolerance and nearer than the zipper's gap (1e-3 of the diagonal).
+  const double lo = 0.2, hi = 0.8, d = 1e-3;
+  Builder b;
+  for (int i = 0; i < 4; ++i) {
+    const double x0 = i, x1 = i + 1;
+    b.quad({x0, lo, lo}, {x1, lo, lo}, {x1, lo, hi}, {x0, lo, hi});  // bottom, facing -y
+    b.quad({x0, lo, hi}, {x1, lo, hi}, {x1, hi, hi}, {x0, hi, hi});  // front, +z
+    b.quad({x0, hi, lo}, {x1, hi, lo}, {x1, lo, lo}, {x0, lo, lo});  // back, -z
+    // top, +y: through m where a side is at x = 2
+    const Eigen::Vector3d n(0, 1, 0);
+    const std::uint32_t a = b.vertex({x0, hi, hi}, n), c = b.vertex({x1, hi, hi}, n), e = b.vertex({x1, hi, lo}, n),
+                        f = b.vertex({x0, hi, lo}, n);
+    if (i == 1) {  // m on the right side
+      const std::uint32_t m = b.vertex({x1, hi + d, 0.5}, n);
+      b.triangle(a, c, m), b.triangle(a, m, f), b.triangle(m, e, f);
+    } else if (i == 2) {  // m on the left side
+      const std::uint32_t m = b.vertex({x0, hi + d, 0.5}, n);
+      b.triangle(a, c, m), b.triangle(c, e, m), b.triangle(m, e, f);
+    } else {
+      b.triangle(a, c, e), b.triangle(a, e, f);
+    }
+  }
+  b.quad({0, lo, lo}, {0, lo, hi}, {0, hi, hi}, {0, hi, lo});  // the ends, facing -x and +x
+  b.quad({4, lo, lo}, {4, hi, lo}, {4, hi, hi}, {4, lo, hi});
+  const Mesh in = b.mesh();
+  REQUIRE(restitch::boundary_edge_count(in) == 0);
+  const Lattice lat = lattice_x(1.0, 4);
+  const Eigen::Array3i out_cells(5, 1, 1);
+  std::vector<Eigen::Array3i> labels;
+  for (int i = 0; i < 5; ++i) labels.push_back(Eigen::Array3i(i < 3 ? 0 : 1, 0, 0));
+  ClipStitcher zipped, unzipped;
+  unzipped.zip_seams = false;
+  Mesh out, open;
+  StitchReport rep, open_rep;
+  REQUIRE(zipped.stitch(in, lat, out_cells, labels, out, rep));
+  REQUIRE(unzipped.stitch(in, lat, out_cells, labels, open, open_rep));
+  CHECK(restitch::boundary_edge_count(open) == 3);  // the plain side, and the two through m
+  CHECK(rep.zip_triangles == 1);
+  CHECK(restitch::boundary_edge_count(out) == 0);
+  CHECK(area(out) - area(open) == Approx(0.5 * (hi - lo) * d).epsilon(1e-3));  // one triangle, d high
+}

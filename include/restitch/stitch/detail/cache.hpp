@@ -24,6 +24,7 @@
 #include "restitch/lattice/grid.hpp"
 #include "restitch/lattice/lattice.hpp"
 #include "restitch/mesh.hpp"
+#include "restitch/mesh_boundary.hpp"
 #include "restitch/stitch/detail/clip.hpp"
 
 namespace restitch {
@@ -53,6 +54,12 @@ class ClipStitchCache {
   std::uint8_t overhang(std::size_t f) const { return overhang_[f]; }
   /// Vertex v lies on a plane c_a = k, 0 <= k <= cells[a].
   bool on_plane(std::size_t v) const { return on_plane_[v] != 0; }
+  /// The input's edge between vertices a and b is open (used by one face, positions welded at the
+  /// tolerance).
+  bool input_edge_open(std::uint32_t a, std::uint32_t b) const {
+    const std::uint64_t ra = weld_rep_[a], rb = weld_rep_[b];
+    return std::binary_search(open_edges_.begin(), open_edges_.end(), (std::min(ra, rb) << 32) | std::max(ra, rb));
+  }
   /// Triangles whose cell range includes input cell `cell`: [bucket_begin, bucket_end).
   const std::uint32_t* bucket_begin(int cell) const { return bucket_tri_.data() + bucket_start_[std::size_t(cell)]; }
   const std::uint32_t* bucket_end(int cell) const { return bucket_tri_.data() + bucket_start_[std::size_t(cell) + 1]; }
@@ -75,6 +82,8 @@ class ClipStitchCache {
   std::vector<std::int32_t> range_;
   std::vector<std::uint8_t> overhang_;
   std::vector<std::uint8_t> on_plane_;
+  std::vector<std::uint32_t> weld_rep_;    // per vertex, its position's representative at tol_
+  std::vector<std::uint64_t> open_edges_;  // the input's open edges, (lower rep << 32) | higher rep, sorted
   std::vector<std::uint32_t> bucket_start_;  // per input cell + 1
   std::vector<std::uint32_t> bucket_tri_;
 };
@@ -89,6 +98,9 @@ Status ClipStitchCache::build(const Mesh& in, const Lattice& lattice, double tol
   diagonal_ = bounding_box(in).size().norm();
   max_abs_coord_ = max_abs_coordinate(in);
   canonical_coordinates(lattice.A.inverse());
+  weld_rep_ = weld_positions(in, tol);
+  open_edges_.clear();
+  for (const BoundaryEdge& e : boundary_edges_at(in, tol)) open_edges_.push_back((std::uint64_t(e.a) << 32) | e.b);
   const Status s = bucket_triangles(max_bucket_entries);
   if (!s) mesh_ = nullptr;
   return s;

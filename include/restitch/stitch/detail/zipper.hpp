@@ -15,8 +15,8 @@
 //   1. Open seam edges: edges of the faces, with both corners seam vertices (cut vertices, or copies of
 //      input vertices on a cell plane), used by exactly one face, directed as that face runs them.
 //   2. Chains: the open seam edges followed head to tail through positions with one open edge in and one
-//      out (any other position ends the chains through it), open or closed. A chain with no cut vertex is
-//      the input's own open edge copied (it is left open: the input has it).
+//      out (any other position ends the chains through it), open or closed. A chain with no cut vertex
+//      whose every edge is a copy of one the input has open is the input's own open edge (left open).
 //   3. Partners: a chain and another, of the same group, running the other way (open chains: each one's
 //      start within the gap of the other's end; closed ones: their vector areas point opposite ways), with
 //      every vertex of each within the gap of the other's polyline. The nearest such chain (by that
@@ -171,11 +171,12 @@ std::size_t zip_seams(StitchOutput& o, const ClipStitchCache& cache, double gap,
     if (!taken[e] && !simple(id(open[e].from))) walk(e);  // open chains, from their starts
   for (std::uint32_t e = 0; e < open.size(); ++e)
     if (!taken[e]) walk(e);  // what is left: closed chains
-  std::vector<Chain> cut;  // only chains a seam cut (with a cut vertex)
+  std::vector<Chain> cut;  // only chains a seam made: with a cut vertex, or an edge the input has closed
   for (Chain& c : chains) {
-    if (std::none_of(c.from.begin(), c.from.end(), [&](std::uint32_t v) { return o.is_cut(v); }) &&
-        std::none_of(c.to.begin(), c.to.end(), [&](std::uint32_t v) { return o.is_cut(v); }))
-      continue;
+    bool made = false;
+    for (std::size_t k = 0; k < c.from.size() && !made; ++k)
+      made = o.is_cut(c.from[k]) || o.is_cut(c.to[k]) || !cache.input_edge_open(o.source(c.from[k]), o.source(c.to[k]));
+    if (!made) continue;
     c.lo = c.hi = pos(c.point(0));
     c.area.setZero();
     for (std::size_t k = 0; k < c.points(); ++k) {
@@ -185,7 +186,7 @@ std::size_t zip_seams(StitchOutput& o, const ClipStitchCache& cache, double gap,
     }
     cut.push_back(std::move(c));
   }
-  if (cut.size() < 2) return 0;
+  if (cut.empty()) return 0;
 
   // 3. Partners.
   auto polyline_distance = [&](const Eigen::Vector3d& p, const Chain& c) {
