@@ -171,12 +171,7 @@ std::size_t zip_seams(StitchOutput& o, const ClipStitchCache& cache, double gap,
     if (!taken[e] && !simple(id(open[e].from))) walk(e);  // open chains, from their starts
   for (std::uint32_t e = 0; e < open.size(); ++e)
     if (!taken[e]) walk(e);  // what is left: closed chains
-  std::vector<Chain> cut;  // only chains a seam made: with a cut vertex, or an edge the input has closed
-  for (Chain& c : chains) {
-    bool made = false;
-    for (std::size_t k = 0; k < c.from.size() && !made; ++k)
-      made = o.is_cut(c.from[k]) || o.is_cut(c.to[k]) || !cache.input_edge_open(o.source(c.from[k]), o.source(c.to[k]));
-    if (!made) continue;
+  auto bound = [&](Chain& c) {  // its box, and its vector area if closed
     c.lo = c.hi = pos(c.point(0));
     c.area.setZero();
     for (std::size_t k = 0; k < c.points(); ++k) {
@@ -184,6 +179,14 @@ std::size_t zip_seams(StitchOutput& o, const ClipStitchCache& cache, double gap,
       c.lo = c.lo.cwiseMin(p), c.hi = c.hi.cwiseMax(p);
       if (c.closed) c.area += p.cross(pos(c.point(k + 1)));
     }
+  };
+  std::vector<Chain> cut;  // only chains a seam made: with a cut vertex, or an edge the input has closed
+  for (Chain& c : chains) {
+    bool made = false;
+    for (std::size_t k = 0; k < c.from.size() && !made; ++k)
+      made = o.is_cut(c.from[k]) || o.is_cut(c.to[k]) || !cache.input_edge_open(o.source(c.from[k]), o.source(c.to[k]));
+    if (!made) continue;
+    bound(c);
     cut.push_back(std::move(c));
   }
   if (cut.empty()) return 0;
@@ -240,6 +243,7 @@ std::size_t zip_seams(StitchOutput& o, const ClipStitchCache& cache, double gap,
     if (partner[i] != none || cut[i].from.size() < 2) continue;
     const Chain& c = cut[i];
     const std::size_t n = c.points();
+    if (!c.closed && (pos(c.point(0)) - pos(c.point(n - 1))).norm() > gap) continue;
     std::size_t tip_a = 0, tip_b = 0;
     double far = -1;
     for (std::size_t a = 0; a < (c.closed ? n : 1); ++a)
@@ -247,22 +251,18 @@ std::size_t zip_seams(StitchOutput& o, const ClipStitchCache& cache, double gap,
         const double d = (pos(c.point(a)) - pos(c.point(b))).squaredNorm();
         if (d > far) far = d, tip_a = a, tip_b = b;
       }
-    if (!c.closed && (pos(c.point(0)) - pos(c.point(n - 1))).norm() > gap) continue;
-    auto half = [&](std::size_t first_edge, std::size_t edges) {  // edges first_edge .. (mod a closed chain's)
+    auto half = [&](std::size_t first_edge, std::size_t edges) {  // edges from first_edge on, around a closed chain
       Chain h;
       h.group = c.group;
       for (std::size_t k = 0; k < edges; ++k) {
         const std::size_t e = (first_edge + k) % c.from.size();
         h.from.push_back(c.from[e]), h.to.push_back(c.to[e]);
       }
-      if (edges == 0) return h;
-      h.lo = h.hi = pos(h.point(0));
-      for (std::size_t k = 1; k < h.points(); ++k) h.lo = h.lo.cwiseMin(pos(h.point(k))), h.hi = h.hi.cwiseMax(pos(h.point(k)));
-      h.area.setZero();
+      if (edges > 0) bound(h);
       return h;
     };
     Chain first = half(tip_a, tip_b - tip_a);
-    Chain second = half(tip_b, c.from.size() - (tip_b - tip_a) - (c.closed ? 0 : tip_a));
+    Chain second = half(tip_b, c.from.size() - (tip_b - tip_a));
     if (first.from.empty() || second.from.empty() || hausdorff(first, second) > gap) continue;
     const std::uint32_t j = std::uint32_t(cut.size());
     cut.push_back(std::move(first));
