@@ -332,7 +332,8 @@ async function start() {
   panel.build({ samples: catalog.samples.map((s) => s.name), policies: catalog.policies }, handlers);
   if (!catalog.samples.some((s) => s.name === settings.sample)) settings.sample = catalog.samples[0].name;
   panel.refresh();
-  await session.load({ sample: { name: settings.sample, params: {} } });
+  // The bundled sample, unless a model was opened while the page started.
+  if (!session.opened) await session.load({ sample: { name: settings.sample, params: {} } });
 }
 
 start();

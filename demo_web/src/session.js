@@ -95,6 +95,7 @@ export class Session {
   #policy;
   #now;
   #generation = 0;
+  #starting = null;     // the catalog request of start(), while it runs
   #inFlight = null;     // the retarget job running: {steps, labelSpace, key, t0, waiters}
   #next = null;         // the one waiting to run
   #promoting = null;    // the promotion running: {offsets, key, waiters}
@@ -107,24 +108,46 @@ export class Session {
     this.#now = now;
   }
 
-  // Starts the worker and asks for the catalog; null (and the error state) when that fails.
+  // Starts the worker and asks for the catalog; null (and the error state) when that fails. A model opened
+  // meanwhile waits for it (load), and a worker restarted meanwhile is asked again, so the start never ends
+  // as "cancelled".
   async start() {
     this.#setStatus('loading');
     this.#client.restart();
+    this.#starting = this.#askCatalog();
     try {
-      const msg = await this.#client.request('catalog');
-      this.state.catalog = msg.samples;
-      this.state.policies = msg.policies;
-      return msg;
-    } catch (e) {
-      this.fail(`restitch could not start: ${e.message}`);
-      return null;
+      return await this.#starting;
+    } finally {
+      this.#starting = null;
     }
   }
 
-  // Loads a model ({file: {name, bytes}} or {sample: {name, params}}) and analyses it.
+  async #askCatalog() {
+    for (;;) {
+      try {
+        const msg = await this.#client.request('catalog');
+        this.state.catalog = msg.samples;
+        this.state.policies = msg.policies;
+        return msg;
+      } catch (e) {
+        if (e.cancelled) continue;  // the worker was restarted under the request: ask the new one
+        this.fail(`restitch could not start: ${e.message}`);
+        return null;
+      }
+    }
+  }
+
+  // Whether a model was asked for (by load) since the page started.
+  get opened() { return this.#generation > 0; }
+
+  // Loads a model ({file: {name, bytes}} or {sample: {name, params}}) and analyses it. During the start it
+  // waits for the catalog first; a later load supersedes it.
   async load(what) {
     const generation = ++this.#generation;
+    if (this.#starting) {
+      await this.#starting;
+      if (generation !== this.#generation || this.state.status === 'error') return;  // superseded, or no start
+    }
     if (this.state.status === 'analyzing' || this.state.status === 'loading') this.#client.restart();
     this.#clearError();
     this.#setStatus('loading');

@@ -432,6 +432,36 @@ try {
     }
   });
 
+  await attempt('a file opened at any moment of the start is the model shown, and the page ends ready', async () => {
+    // A page of its own per moment: the file goes in while the module loads, while the catalog is asked for,
+    // or while the bundled bookshelf is loading or being analysed. The fence has one principal offset, the
+    // bookshelf two, so the analysis shown says which model won.
+    const moments = [0, 20, 100, 400, 1000];
+    const seen = [];
+    for (const ms of moments) {
+      const p3 = await context.newPage();
+      const errors = [];
+      p3.on('pageerror', (e) => errors.push(e.message));
+      try {
+        await p3.goto(`${base}index.html?sample=bookshelf`, { waitUntil: 'commit' });
+        await p3.waitForTimeout(ms);
+        await p3.waitForSelector('#file', { state: 'attached', timeout: 30000 });
+        await p3.setInputFiles('#file', path.join(userDataDir, 'fence.glb'));
+        await p3.waitForFunction(() => document.body.dataset.status === 'error' ||
+                                       (document.body.dataset.status === 'ready' && window.restitchDemo.analysis &&
+                                        window.restitchDemo.analysis.principal_offsets.length === 1),
+                                 null, { timeout: 120000, polling: 100 });
+        const st = await p3.evaluate(() => document.body.dataset.status);
+        assert(st === 'ready', `after ${ms} ms: status ${st}: ${await p3.textContent('#error')}`);
+        assert(errors.length === 0, `after ${ms} ms: ${errors[0]}`);
+        seen.push(ms);
+      } finally {
+        await p3.close();
+      }
+    }
+    return `opened ${seen.length} times, at ${seen.join(', ')} ms after navigation`;
+  });
+
   await attempt('the console has no errors', async () => {
     assert(consoleErrors.length === 0, consoleErrors.slice(0, 3).join(' | '));
   });

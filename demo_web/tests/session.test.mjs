@@ -346,6 +346,44 @@ test('start asks for the catalog; a failure is the error state', async () => {
   assert.match(other.session.state.error, /could not start: the WebAssembly module did not load/);
 });
 
+test('a model opened while the page starts waits for the catalog, then loads; the start never fails', async () => {
+  const catalog = { samples: [{ name: 'bookshelf', units: 'm' }], policies: { descriptors: ['shot'] } };
+  // Opened before the catalog came: the load waits, the worker is not restarted under the start.
+  const { session, client } = makeSession();
+  const started = session.start();
+  assert.equal(session.opened, false);
+  const opening = session.load({ file: { name: 'a.glb', bytes: new ArrayBuffer(8) } });
+  await flush();
+  assert.equal(session.opened, true);
+  assert.equal(client.sent('load').length, 0, 'the file waits for the catalog');
+  assert.equal(client.open('catalog').length, 1, 'the catalog request was not cancelled');
+  await client.answer('catalog', catalog);
+  assert.equal((await resolved(started)).samples[0].name, 'bookshelf');
+  assert.equal(client.sent('load').length, 1);
+  await client.answer('load', loaded());
+  await client.answer('analyze', analysed());
+  await resolved(opening);
+  assert.equal(session.state.status, 'ready');
+  assert.equal(session.state.error, '');
+  // Two files during the start: only the second loads.
+  const two = makeSession();
+  const twoStarted = two.session.start();
+  two.session.load({ file: { name: 'first.glb', bytes: new ArrayBuffer(8) } });
+  two.session.load({ file: { name: 'second.glb', bytes: new ArrayBuffer(8) } });
+  await two.client.answer('catalog', catalog);
+  await resolved(twoStarted);
+  assert.deepEqual(two.client.sent('load').map((r) => r.payload.file.name), ['second.glb']);
+  // The worker restarted under the catalog request (the old page's race): asked again, not failed.
+  const third = makeSession();
+  const thirdStarted = third.session.start();
+  third.client.restart();
+  await flush();
+  assert.equal(third.client.sent('catalog').length, 2, 'asked the new worker');
+  await third.client.answer('catalog', catalog);
+  assert.equal((await resolved(thirdStarted)).samples.length, 1);
+  assert.notEqual(third.session.state.status, 'error');
+});
+
 test('a promotion makes the 2-pin header resizable: the new analysis is shown, the sliders follow it', async () => {
   const { session, client, named } = makeSession();
   session.load({ sample: { name: 'pin_header', params: { pins: 2 } } });
