@@ -2,12 +2,18 @@
 # Installs what restitch needs on Debian 12, only what is missing.
 #   scripts/install-deps.sh          everything (native build, Emscripten, Chromium, npm packages)
 #   scripts/install-deps.sh --native only what the native library and CLI need
+#   scripts/install-deps.sh --page   what the web page needs to be built and served (scripts/serve-demo.sh)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 native=(cmake make ninja-build g++ libeigen3-dev libnanoflann-dev libtinygltf-dev nlohmann-json3-dev catch2 libcli11-dev)
-web=(emscripten chromium nodejs npm clang-14 libclang-rt-14-dev)  # and the fuzz targets (scripts/fuzz.sh)
+page=(emscripten nodejs npm)
+web=("${page[@]}" chromium clang-14 libclang-rt-14-dev)  # and the browser tests and fuzz targets (scripts/fuzz.sh)
 want=("${native[@]}")
-[ "${1:-}" = "--native" ] || want+=("${web[@]}")
+case "${1:-}" in
+  --native) ;;
+  --page) want+=("${page[@]}") ;;
+  *) want+=("${web[@]}") ;;
+esac
 
 missing=()
 for p in "${want[@]}"; do
