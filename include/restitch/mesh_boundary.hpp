@@ -92,10 +92,10 @@ struct BoundaryEdge {
   std::uint32_t face = 0;
 };
 
-/// The boundary edges of m with positions welded at `tol` (see the file comment), ordered by a, then b.
+/// The boundary edges of m with its vertices welded by `rep` (weld_positions of m: one entry per vertex,
+/// its position's representative), ordered by a, then b.
 template <class = void>
-std::vector<BoundaryEdge> boundary_edges_at(const Mesh& m, double tol) {
-  const std::vector<std::uint32_t> rep = weld_positions(m, tol);
+std::vector<BoundaryEdge> boundary_edges_welded(const Mesh& m, const std::vector<std::uint32_t>& rep) {
   // Edges bucketed by their lower corner (a counting sort), each bucket sorted by the higher one:
   // O(#F) plus tiny sorts, instead of one O(#F log #F) sort.
   const std::size_t nv = m.vertex_count();
@@ -125,6 +125,12 @@ std::vector<BoundaryEdge> boundary_edges_at(const Mesh& m, double tol) {
     }
   }
   return open;
+}
+
+/// The boundary edges of m with positions welded at `tol` (see the file comment), ordered by a, then b.
+template <class = void>
+std::vector<BoundaryEdge> boundary_edges_at(const Mesh& m, double tol) {
+  return boundary_edges_welded(m, weld_positions(m, tol));
 }
 
 /// How many boundary edges m has with positions welded at `tol`.

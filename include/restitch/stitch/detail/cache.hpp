@@ -100,7 +100,7 @@ Status ClipStitchCache::build(const Mesh& in, const Lattice& lattice, double tol
   canonical_coordinates(lattice.A.inverse());
   weld_rep_ = weld_positions(in, tol);
   open_edges_.clear();
-  for (const BoundaryEdge& e : boundary_edges_at(in, tol)) open_edges_.push_back((std::uint64_t(e.a) << 32) | e.b);
+  for (const BoundaryEdge& e : boundary_edges_welded(in, weld_rep_)) open_edges_.push_back((std::uint64_t(e.a) << 32) | e.b);
   const Status s = bucket_triangles(max_bucket_entries);
   if (!s) mesh_ = nullptr;
   return s;

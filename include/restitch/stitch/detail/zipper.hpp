@@ -233,11 +233,7 @@ std::size_t zip_seams(StitchOutput& o, const ClipStitchCache& cache, double gap,
     }
     if (best != none) partner[i] = best, partner[best] = i;
   }
-  // 3b. Slits: where the two sides touch (a vertex or a short edge of one welded to the other's), they run
-  // as one chain that goes out along one side and back along the other, closed if they touch at both
-  // ends. Such a chain without a partner is cut in two at its far point (the farthest from its start, or
-  // for a closed chain the farthest pair of its points, a slit's two tips), and the halves are partners
-  // if they pass the test of step 3.
+  // 3b. Slits (file comment, step 3): a chain without a partner, cut at its tips into two halves that may be.
   const std::size_t unsplit = cut.size();
   for (std::uint32_t i = 0; i < unsplit; ++i) {
     if (partner[i] != none || cut[i].from.size() < 2) continue;
