@@ -271,6 +271,12 @@ $('file').addEventListener('change', (e) => {
   if (f) openFile(f);
   e.target.value = '';
 });
+// A file chosen before this script ran (the picker is in the page before the modules have loaded) is in the
+// input already, and its change event has gone by: open it now.
+if ($('file').files[0]) {
+  openFile($('file').files[0]);
+  $('file').value = '';
+}
 window.addEventListener('dragover', (e) => { e.preventDefault(); document.body.classList.add('dragging'); });
 window.addEventListener('dragleave', (e) => { if (!e.relatedTarget) document.body.classList.remove('dragging'); });
 window.addEventListener('drop', (e) => {
