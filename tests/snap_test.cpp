@@ -211,3 +211,28 @@ TEST_CASE("repeat_precision: exact copies keep the base, copies off by a known d
     CHECK(r.tolerance == 32 * base);
   }
 }
+
+TEST_CASE("snap: the lags along a direction at which vertices repeat, most pairs first", "[offsets][snap]") {
+  // Two runs of three copies of a random module, a pitch s apart, the second run T after the first (T no
+  // multiple of s: slats in two runs split by a rail). Lags shorter than 0.5 along d and their pairs:
+  // s 4 per module point, T 3, 2s, T - s and T + s 2, T - 2s and T + 2s 1.
+  const Eigen::Vector3d d = Eigen::Vector3d(1, 2, -0.5).normalized();
+  const double s = 0.07, T = 0.27;
+  const int n = 50;
+  const auto run = repeated(n, 3, s * d, 11);
+  Eigen::Matrix<double, Eigen::Dynamic, 3> P(2 * run.rows(), 3);
+  P.topRows(run.rows()) = run;
+  P.bottomRows(run.rows()) = run.rowwise() + (T * d).transpose();
+  const std::vector<Eigen::Vector3d> all = vertex_lags(P, 0.5 * d, 2e-5, 0.01, 8, 10);
+  REQUIRE(all.size() == 7);
+  CHECK((all[0] - s * d).norm() < 1e-12);
+  CHECK((all[1] - T * d).norm() < 1e-12);
+  for (const Eigen::Vector3d& lag : all) CHECK((lag - lag.dot(d) * d).norm() < 1e-12);  // along d
+  // min_pairs: only the lags with at least 3 n pairs; count: at most that many; min_length: none shorter.
+  const std::vector<Eigen::Vector3d> most = vertex_lags(P, 0.5 * d, 2e-5, 0.01, 3 * n, 10);
+  REQUIRE(most.size() == 2);
+  CHECK(vertex_lags(P, 0.5 * d, 2e-5, 0.01, 8, 1).size() == 1);
+  for (const Eigen::Vector3d& lag : vertex_lags(P, 0.5 * d, 2e-5, 0.15, 8, 10)) CHECK(lag.norm() >= 0.15);
+  // Points on no common line along d: no lag.
+  CHECK(vertex_lags(repeated(200, 1, d, 5), d, 2e-5, 0.01, 8, 10).empty());
+}

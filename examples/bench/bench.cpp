@@ -15,6 +15,10 @@
 //    family (which true generators each recovers, time per stage) and, unless
 //    --quick, on the real models in --models DIR (default ../shared/models)
 //
+// 7. counts (not with --quick): every family with structure around its repeat, generated at 2 to 10 modules and resized
+//    from each count to every other with the defaults, compared in place with the family generated at
+//    that count (bounding box and surface distance within 1e-4 of the diagonal; open boundary length)
+//
 //   bench --only detectors     runs section 6 alone
 //
 // Times are wall-clock (steady_clock), best of a few runs for the short ones.
@@ -39,6 +43,8 @@
 #include "restitch/io/json_report.hpp"
 #include "restitch/restitch.hpp"
 #include "restitch/runtime.hpp"
+#include "../../tests/support/boundary_length.hpp"
+#include "../../tests/support/surface_distance.hpp"
 
 using namespace restitch;
 using clock_type = std::chrono::steady_clock;
@@ -506,6 +512,70 @@ void bench_detectors(const std::vector<std::string>& families, const std::string
   }
 }
 
+// Section 7: each family at n = 2..10 modules resized to every other count m, compared in place with the
+// family generated at m. One letter per resize: '.' exact in place and no more open boundary than the
+// truth; 'o' exact in shape, more open boundary; 'W' a centred part half a period off, which the report
+// warns of (whole periods cannot keep it centred); 'w' wrong, with a warning; 'X' wrong, no warning;
+// 'R' refused; 'A' no principal offset along the family's repeat at n.
+void bench_counts(nlohmann::json& out) {
+  std::printf("\n== every count to every other (n = 2..10 modules, rows: from n, columns: to m)\n");
+  for (const std::string name : {"connector", "box_header", "cabinet", "radiator", "railing", "shutter", "fence",
+                                 "pin_header"}) {
+    const std::string count = families::generate(name)->count_parameters[0];
+    std::map<char, int> tally;
+    nlohmann::json rows = nlohmann::json::array();
+    std::printf("%s (%s):\n", name.c_str(), count.c_str());
+    for (int n = 2; n <= 10; ++n) {
+      auto s = families::generate(name, {{count, n}});
+      auto a = s.ok() ? analyze(s->mesh) : Result<Analysis>(s.status());
+      std::string row;
+      int axis = -1;
+      if (a.ok())
+        for (int b = 0; b < 3; ++b)
+          if (!a->lattice.dummy[b] && std::abs(a->lattice.A.col(b).normalized().dot(s->generators[0].normalized())) >
+                                          std::cos(M_PI / 180))
+            axis = b;
+      std::optional<Retargeter<>> r;
+      if (axis >= 0) r.emplace(s->mesh, *a);
+      for (int m = 2; m <= 10; ++m) {
+        char c = '-';
+        if (m != n && axis < 0) c = 'A';
+        if (m != n && axis >= 0) {
+          Eigen::Array3i steps = Eigen::Array3i::Zero();
+          steps[axis] = m - n;
+          auto res = r->retarget(steps);
+          if (!res.ok()) {
+            c = 'R';
+          } else {
+            const Mesh truth = families::generate(name, {{count, m}})->mesh;
+            const BoundingBox bt = bounding_box(truth), bo = bounding_box(res->mesh);
+            const double size = bt.size().norm();
+            const bool exact = (bt.min - bo.min).norm() < 1e-4 * size && (bt.max - bo.max).norm() < 1e-4 * size &&
+                               test::symmetric_surface_distance(res->mesh, truth, 0.004 * size) < 1e-4 * size;
+            const double open = test::open_boundary_length(truth);
+            bool centred = false;
+            for (const ResultWarning& w : res->report.warnings) centred = centred || w.check == "part off centre";
+            if (exact)
+              c = test::open_boundary_length(res->mesh) <= open + 1e-6 * (1 + open) ? '.' : 'o';
+            else
+              c = centred ? 'W' : res->report.warnings.empty() ? 'X' : 'w';
+          }
+        }
+        if (m != n) ++tally[c];
+        row += c;
+      }
+      std::printf("  %2d  %s\n", n, row.c_str());
+      rows.push_back(row);
+    }
+    std::printf("  exact %d (more open %d), centred part off by half a period %d, wrong and warned %d, wrong "
+                "silently %d, refused %d, no repeat found %d\n",
+                tally['.'], tally['o'], tally['W'], tally['w'], tally['X'], tally['R'], tally['A']);
+    out["counts"][name] = {{"rows", rows}, {"exact", tally['.']}, {"exact_more_open", tally['o']},
+                           {"centred_off", tally['W']}, {"warned", tally['w']}, {"silent", tally['X']},
+                           {"refused", tally['R']}, {"no_repeat", tally['A']}};
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -528,7 +598,7 @@ int main(int argc, char** argv) {
     else
       return std::fprintf(stderr,
                           "usage: bench [--quick] [--json FILE] [--models DIR] [--only "
-                          "analysis|shot|comparison|scaling|synthetic|detectors]\n"),
+                          "analysis|shot|comparison|scaling|synthetic|detectors|counts]\n"),
              2;
   }
   const auto run = [&](const char* section) { return only.empty() || only == section; };
@@ -544,6 +614,7 @@ int main(int argc, char** argv) {
   if (run("scaling")) bench_scaling_triangles(sizes, out);
   if (run("synthetic")) bench_synthetic(quick, out);
   if (run("detectors")) bench_detectors(families, models, quick, out);
+  if (run("counts") && (!quick || only == "counts")) bench_counts(out);  // minutes: not in --quick
   std::ofstream(json_path) << out.dump(2) << "\n";
   std::printf("\nwrote %s\n", json_path.c_str());
   return 0;

@@ -503,6 +503,25 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
   return {};
 }
 
+/// The normalized positions of the mesh's vertices that shape it (equal positions once; without the
+/// shape-neutral ones inside a flat region or a straight crease, sampling/features.hpp, unless `keep_flat`):
+/// where they repeat, the model does, and not only its tessellation.
+template <class = void>
+Eigen::Matrix<double, Eigen::Dynamic, 3> shape_vertices(const Mesh& mesh, const Normalization& norm, bool keep_flat) {
+  std::vector<std::uint32_t> rep, order;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> P(0, 3);
+  if (!detail::merge_equal_positions(mesh, rep, order).ok()) return P;
+  std::vector<char> neutral;
+  if (!keep_flat) neutral = detail::shape_neutral(mesh, rep);
+  std::vector<std::uint32_t> reps;
+  for (const std::uint32_t v : order)
+    if (rep[v] == v && (keep_flat || !neutral[v])) reps.push_back(v);
+  P.resize(Eigen::Index(reps.size()), 3);
+  for (std::size_t i = 0; i < reps.size(); ++i)
+    P.row(Eigen::Index(i)) = norm.to_normalized(mesh.V.row(reps[i]).transpose().template cast<double>()).transpose();
+  return P;
+}
+
 /// The model length the repeating slabs along lattice axis a cover (slabs x |v_a|), or -1 when the axis is
 /// undecided (restitch/lattice/structure.hpp).
 template <class = void>
@@ -526,6 +545,7 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
                       const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices, Analysis& a) {
   if (!options.verify_periods || !vertices || a.axes.real_count == 0 || a.dense.size() == 0) return {};
   std::unique_ptr<TriangleSurface> surface;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> shaping(0, 3);  // shape_vertices, once an axis needs them
   bool changed = false;
   for (int k = 0; k < a.axes.real_count; ++k) {
     if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
@@ -533,23 +553,77 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
     const double have = repeated_length(st, a.lattice, k);
     const Eigen::Vector3d t = a.axes.axes[std::size_t(k)];
     const double extent = a.lattice.cells[k] * t.norm();  // the model's length along t, about
-    std::vector<int> factors;  // > 0: multiples, < 0: divisors
+    // What is tried, in order: multiples (f > 0) or divisors (f < 0) of t, then the shorter significant
+    // offsets parallel to t that are no divisor of it (f = 0, `from` their dominant offset), shortest first.
+    struct Guess {
+      Eigen::Vector3d offset;
+      int f = 0;
+      int from = -1;
+    };
+    std::vector<Guess> guesses;
     if (st.undecided[std::size_t(k)]) {
       for (int m = 2; m <= 4; ++m)
-        if (2 * m * t.norm() <= extent + 1e-9) factors.push_back(m);
+        if (2 * m * t.norm() <= extent + 1e-9) guesses.push_back({t * double(m), m, -1});
     } else {
       for (int m = options.fundamental.max_divisor; m >= 2; --m)
         // At least one dense spacing: a slab that thin still holds samples of every surface crossing it (they
         // lie a spacing apart), which the copy test needs; the overlap's bound (fundamental.min_length) is for
         // tests on overlaps, and this one is exact.
-        if (t.norm() / m >= options.dense_spacing) factors.push_back(-m);
+        if (t.norm() / m >= options.dense_spacing) guesses.push_back({t / double(m), -m, -1});
+      // A shorter repeat along t that whole divisions of t do not reach: slats in two equal runs split by a
+      // rail, where the run with its rail is t (two copies, or a weak pattern) and the slat pitch is no
+      // divisor of it. Parallel: off t's line by less than one dense spacing.
+      std::vector<Guess> shorter;
+      const Eigen::Vector3d dir = t.normalized();
+      for (std::size_t i = 0; i < a.dominant.size(); ++i) {
+        const DominantOffset& d = a.dominant[i];
+        const Eigen::Vector3d u = d.offset.dot(dir) < 0 ? Eigen::Vector3d(-d.offset) : d.offset;
+        const bool pair = std::any_of(d.tests.begin(), d.tests.end(),
+                                      [](const OffsetTest& x) { return x.name == "pair_third_copy"; });
+        if (!d.significant || pair || u.norm() < options.dense_spacing || u.norm() >= t.norm() - options.dense_spacing ||
+            (u - u.dot(dir) * dir).norm() > options.dense_spacing)
+          continue;
+        const int m = int(std::lround(t.norm() / u.norm()));
+        if (m >= 2 && m <= options.fundamental.max_divisor && (u - t / double(m)).norm() <= (m + 1) * options.snap.end_radius)
+          continue;  // a divisor: tried as one
+        bool known = false;
+        for (const Guess& g : shorter) known = known || (g.offset - u).norm() <= options.dense_spacing;
+        if (!known) shorter.push_back({u, 0, int(i)});
+      }
+      // And the shifts along t at which the vertices that shape the model repeat (on lines parallel to t; not
+      // those inside flat regions or straight creases, which a fine tessellation repeats at its own step, as
+      // for the features, 1.1): a slat pitch the matching did not vote for (three slats a run: their pairs
+      // are outvoted by the runs'). The four most paired, with as many pairs as a snap needs: each costs a
+      // lattice fit and a structure, and the structure's exact test below decides.
+      if (shaping.rows() == 0) shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
+      for (const Eigen::Vector3d& u : vertex_lags(shaping, t, options.snap.end_radius, options.dense_spacing,
+                                                  options.snap.min_pairs, 4)) {
+        const int m = int(std::lround(t.norm() / u.norm()));
+        if (m >= 2 && m <= options.fundamental.max_divisor && (u - t / double(m)).norm() <= (m + 1) * options.snap.end_radius)
+          continue;  // a divisor: tried as one
+        bool known = false;
+        for (const Guess& g : shorter) known = known || (g.offset - u).norm() <= options.dense_spacing;
+        if (!known) shorter.push_back({u, 0, -1});
+      }
+      std::stable_sort(shorter.begin(), shorter.end(),
+                       [](const Guess& x, const Guess& y) { return x.offset.norm() < y.offset.norm(); });
+      guesses.insert(guesses.end(), shorter.begin(), shorter.end());
     }
-    for (const int f : factors) {
-      const Eigen::Vector3d guess = f > 0 ? Eigen::Vector3d(t * f) : Eigen::Vector3d(t / double(-f));
+    for (const Guess& g : guesses) {
+      const int f = g.f;
+      const Eigen::Vector3d guess = g.offset;
       const SnapResult snapped = snap_offset(*vertices, guess, options.snap);
       // Exactly m t or t / m: t is exact to the snap's end radius, so its multiple or divisor is to (m + 1)
       // of them; the snap's start radius would take whatever pairs nearby (a pin's edge near half a pitch).
-      if (!snapped.snapped || (snapped.offset - guess).norm() > (std::abs(f) + 1) * options.snap.end_radius) continue;
+      // A shorter repeat the matching found is refined to within a dense spacing (ICP on the samples), one
+      // from the vertices' lags to the end radius (exact pairs, averaged); either stays on t's line (within
+      // two end radii) once snapped, or it is another repeat than the one proposed.
+      const double moved = (snapped.offset - guess).norm();
+      const Eigen::Vector3d across = snapped.offset - snapped.offset.dot(t.normalized()) * t.normalized();
+      if (!snapped.snapped || (f != 0 && moved > (std::abs(f) + 1) * options.snap.end_radius) ||
+          (f == 0 && (moved > (g.from >= 0 ? options.dense_spacing : 2 * options.snap.end_radius) ||
+                      across.norm() > 2 * options.snap.end_radius)))
+        continue;
       PrincipalOffsets axes = a.axes;
       axes.axes[std::size_t(k)] = snapped.offset;
       complete_with_dummies(axes, options.dummy_length);
@@ -559,19 +633,36 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       const double got = repeated_length(there, fit->lattice, k);
       // The parts along k inside the model (not holding an end slab: how the ends fall differs between
       // lattices, a shutter's bottom rail takes two cells of its slat pitch and one of six pitches).
-      const auto inner_parts = [k](const CellStructure& c) {
-        return std::count_if(c.parts.begin(), c.parts.end(), [&](const SingularPart& p) {
-          return p.axis == k && p.first > 0 && p.last < c.cells[k] - 1;
-        });
+      const auto inner = [k](const CellStructure& c, const SingularPart& p) {
+        return p.axis == k && p.first > 0 && p.last < c.cells[k] - 1;
       };
+      const auto inner_parts = [&](const CellStructure& c) {
+        return std::count_if(c.parts.begin(), c.parts.end(), [&](const SingularPart& p) { return inner(c, p); });
+      };
+      const bool repeated_part = std::any_of(there.parts.begin(), there.parts.end(),
+                                             [&](const SingularPart& p) { return inner(there, p) && p.repeated; });
       // A divisor explains as much of the model as t did, with no more parts inside it (a third of a pitch
       // over a wall subdivided in thirds repeats the wall but makes every pin a part of its own; a quarter of
-      // a bookshelf's column every divider). Either must make some neighbouring cells copies (an axis too
-      // short to compare any is no answer).
-      if (!(got > 0) ||
-          (f < 0 && (got < have - t.norm() / a.normalization.scale || inner_parts(there) > inner_parts(st))))
+      // a bookshelf's column every divider). A shorter repeat found on its own (the offset statistics vote
+      // for it) explains as much, and may make parts of what t's modules held, as long as none of them
+      // occurs twice (a slat pitch makes the one rail between two runs a part; where rails recur, the run
+      // and its rail are the module). Either must make some neighbouring cells copies (an axis too short to
+      // compare any is no answer). And a shorter repeat makes at most one part more than t: the one
+      // boundary between t's two copies (the rail between two runs); from three copies of t on, what lies
+      // between them recurs, and t is the module (so too a tessellation's step across a bookshelf's
+      // columns, whose dividers fall at a different phase in each of its cells and are no copies slab for
+      // slab).
+      const bool covers = got >= have - t.norm() / a.normalization.scale;
+      // A shorter repeat is another repeat, not t cut finer, so no end falls differently: it covers at least
+      // what t's copies did, and where t's cells are no copies (t is two copies: each whole slab is an end)
+      // at least half of the length t's lattice spans, as two copies must make up half the model (1.13).
+      const double spans = a.lattice.cells[k] * t.norm() / a.normalization.scale;
+      const bool covers_more = have > 0 ? got >= have : got >= 0.5 * spans;
+      if (!(got > 0) || (f < 0 && (!covers || inner_parts(there) > inner_parts(st))) ||
+          (f == 0 && (!covers_more || repeated_part || inner_parts(there) > inner_parts(st) + 1)))
         continue;
       a.axes = axes;
+      if (f == 0 && g.from >= 0) a.axes.source[std::size_t(k)] = g.from;  // else t's dominant now reads s
       a.principal[std::size_t(k)] = snapped.offset;
       a.lattice = fit->lattice;
       a.A_normalized = fit->A_normalized;
@@ -580,8 +671,11 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       if (const int i = a.axes.source[std::size_t(k)]; i >= 0) {
         DominantOffset& d = a.dominant[std::size_t(i)];
         d.offset = snapped.offset;
-        record_test(d.tests, f > 0 ? "structure_multiple" : "structure_divisor", std::abs(f), 2);
-        d.divisor = f > 0 ? d.divisor : d.divisor * -f;
+        if (f == 0)
+          record_test(d.tests, "structure_shorter", t.norm() / snapped.offset.norm(), 1);
+        else
+          record_test(d.tests, f > 0 ? "structure_multiple" : "structure_divisor", std::abs(f), 2);
+        d.divisor = f >= 0 ? d.divisor : d.divisor * -f;
       }
       changed = true;
       break;

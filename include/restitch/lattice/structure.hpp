@@ -64,6 +64,10 @@ struct SingularPart {
   PartAnchor anchor = PartAnchor::low;
   /// Its centre minus the model's centre along the axis, in periods (a centred part: within +-1/2).
   double offset = 0;
+  /// A copy of the next part along its axis, or of the previous one (as many slabs, each a copy of its
+  /// counterpart): content that occurs more than once, which a period that makes it a part has missed
+  /// (docs/method.md 1.12).
+  bool repeated = false;
 };
 
 struct CellStructure {
@@ -263,6 +267,17 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       else
         p.anchor = to_low < to_high ? PartAnchor::low : PartAnchor::high;
       s.parts.push_back(p);
+    }
+    // Parts that are copies of the next one along a (docs/method.md 1.12): the same number of slabs, each a
+    // copy of its counterpart.
+    for (std::size_t i = s.parts.size(); i-- > 0;) {
+      SingularPart& p = s.parts[i];
+      if (p.axis != a || i + 1 >= s.parts.size() || s.parts[i + 1].axis != a) continue;
+      SingularPart& q = s.parts[i + 1];
+      if (q.last - q.first != p.last - p.first) continue;
+      bool same = true;
+      for (int j = p.first; j <= p.last && same; ++j) same = copies(j, j + (q.first - p.first));
+      if (same) p.repeated = q.repeated = true;
     }
   }
   return s;

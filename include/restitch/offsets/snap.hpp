@@ -256,4 +256,53 @@ RepeatPrecision repeat_precision(const Eigen::Matrix<double, Eigen::Dynamic, 3>&
   return result;
 }
 
+/// The shifts along direction `t` shorter than |t| at which vertices repeat: vertices on one line parallel
+/// to t (within `radius` across it, quantized) and their differences along it, gathered within `radius`,
+/// most pairs first; at most `count` of them, each with at least `min_pairs` pairs and at least `min_length`
+/// long. Proposals for docs/method.md 1.12 (a slat pitch no whole division of a run with its rail reaches),
+/// which tests each on the exact surface. Pairs are counted up to `max_pairs` in all (lines in the points'
+/// order), so that a mesh of long straight runs of vertices costs O(#V log #V + max_pairs log max_pairs).
+template <class = void>
+std::vector<Eigen::Vector3d> vertex_lags(const Eigen::Matrix<double, Eigen::Dynamic, 3>& points, const Eigen::Vector3d& t,
+                                         double radius, double min_length, std::size_t min_pairs, std::size_t count,
+                                         std::size_t max_pairs = std::size_t(1) << 22) {
+  std::vector<Eigen::Vector3d> out;
+  const double len = t.norm();
+  if (!(len > 0) || !(radius > 0) || points.rows() < 2) return out;
+  const Eigen::Vector3d d = t / len;
+  const Eigen::Vector3d u = d.unitOrthogonal(), w = d.cross(u);
+  const double h = 4 * radius;
+  struct Key {
+    std::int64_t a, b;
+    double along;
+    bool operator<(const Key& o) const { return a != o.a ? a < o.a : b != o.b ? b < o.b : along < o.along; }
+  };
+  std::vector<Key> keys;
+  keys.reserve(std::size_t(points.rows()));
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    const Eigen::Vector3d p = points.row(i).transpose();
+    keys.push_back({detail::cell_index(p.dot(u), h), detail::cell_index(p.dot(w), h), p.dot(d)});
+  }
+  std::sort(keys.begin(), keys.end());
+  std::vector<double> lags;
+  for (std::size_t i = 0; i < keys.size() && lags.size() < max_pairs; ++i)
+    for (std::size_t j = i + 1; j < keys.size() && keys[j].a == keys[i].a && keys[j].b == keys[i].b; ++j) {
+      const double lag = keys[j].along - keys[i].along;
+      if (lag >= len - radius) break;
+      if (lag >= min_length) lags.push_back(lag);
+    }
+  std::sort(lags.begin(), lags.end());
+  std::vector<std::pair<std::size_t, double>> groups;  // (pairs, mean lag)
+  for (std::size_t i = 0; i < lags.size();) {
+    std::size_t j = i;
+    double sum = 0;
+    while (j < lags.size() && lags[j] - lags[i] <= 2 * radius) sum += lags[j++];
+    if (j - i >= min_pairs) groups.push_back({j - i, sum / double(j - i)});
+    i = j;
+  }
+  std::stable_sort(groups.begin(), groups.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+  for (std::size_t g = 0; g < groups.size() && out.size() < count; ++g) out.push_back(groups[g].second * d);
+  return out;
+}
+
 }  // namespace restitch
