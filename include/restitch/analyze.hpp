@@ -572,10 +572,13 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
         if (t.norm() / m >= options.dense_spacing) guesses.push_back({t / double(m), -m, -1});
       // A shorter repeat along t that whole divisions of t do not reach: slats in two equal runs split by a
       // rail, where the run with its rail is t (two copies, or a weak pattern) and the slat pitch is no
-      // divisor of it. Parallel: off t's line by less than one dense spacing.
+      // divisor of it. Parallel: off t's line by less than one dense spacing. Only where t occurs at most
+      // twice (the model spans less than three periods): each boundary between copies of t breaks the
+      // shorter repeat's phase and becomes a part of it, and it may add one part at most (below).
       std::vector<Guess> shorter;
       const Eigen::Vector3d dir = t.normalized();
-      for (std::size_t i = 0; i < a.dominant.size(); ++i) {
+      const bool twice = st.extent_high[k] - st.extent_low[k] < 3;
+      for (std::size_t i = 0; twice && i < a.dominant.size(); ++i) {
         const DominantOffset& d = a.dominant[i];
         const Eigen::Vector3d u = d.offset.dot(dir) < 0 ? Eigen::Vector3d(-d.offset) : d.offset;
         const bool pair = std::any_of(d.tests.begin(), d.tests.end(),
@@ -595,9 +598,10 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       // for the features, 1.1): a slat pitch the matching did not vote for (three slats a run: their pairs
       // are outvoted by the runs'). The four most paired, with as many pairs as a snap needs: each costs a
       // lattice fit and a structure, and the structure's exact test below decides.
-      if (shaping.rows() == 0) shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
-      for (const Eigen::Vector3d& u : vertex_lags(shaping, t, options.snap.end_radius, options.dense_spacing,
-                                                  options.snap.min_pairs, 4)) {
+      if (twice && shaping.rows() == 0) shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
+      for (const Eigen::Vector3d& u : twice ? vertex_lags(shaping, t, options.snap.end_radius, options.dense_spacing,
+                                                          options.snap.min_pairs, 4)
+                                            : std::vector<Eigen::Vector3d>{}) {
         const int m = int(std::lround(t.norm() / u.norm()));
         if (m >= 2 && m <= options.fundamental.max_divisor && (u - t / double(m)).norm() <= (m + 1) * options.snap.end_radius)
           continue;  // a divisor: tried as one
