@@ -66,7 +66,7 @@ const session = new Session(client, {
                    labelSpace: settings.labelSpace, seamEnergy: settings.seamEnergy }),
   hooks: {
     status: (s) => { document.body.dataset.status = s; },
-    error: (message) => panel.showError(message),
+    error: (message) => panel.showError(message, session.state.startFailed ? () => start() : null),
     loading: (label) => { $('model-name').textContent = label; },
     materials: materialsFromGlb,
     model: (model) => { showModel(); showOffsets(); view.fitCamera(boxOf(model.info)); view.render(); },

@@ -202,8 +202,15 @@ export class Panel {
     this.el.progressFill.style.width = `${(total * 100).toFixed(1)}%`;
   }
 
-  showError(message) {
+  showError(message, retry = null) {
     this.el.error.textContent = message;
     this.el.error.hidden = !message;
+    if (message && retry) {  // a button that tries again (a failed start)
+      const button = document.createElement('button');
+      button.id = 'retry';
+      button.textContent = 'Retry';
+      button.addEventListener('click', () => retry());
+      this.el.error.append(' ', button);
+    }
   }
 }

@@ -42,7 +42,7 @@
 //   timed(retarget)           its time from request to view, `retarget.pageMs`, is known
 //   redraw()                  a load or an analysis failed: the view should draw the state as it is now
 //
-// state: status, error, catalog [{name, units, ...}], policies {descriptors, matchers, label_spaces},
+// state: status, error, startFailed (the last start failed: start() tries again), catalog [{name, units, ...}], policies {descriptors, matchers, label_spaces},
 //   model {name, units, info, inputMesh, materials} (info: the worker's load answer: bbox_min/max, triangles,
 //   warnings, ...), analysis (`restitch analyze --json` fields), extras (raw match offsets for the histogram),
 //   analysisMs, promoted [[x, y, z]...] (the offsets made principal on request, [] for the detected ones),
@@ -83,7 +83,7 @@ function replace(waiting, job, what) {
 
 export class Session {
   state = {
-    status: 'loading', error: '', catalog: [], policies: { descriptors: [], matchers: [], label_spaces: [] },
+    status: 'loading', error: '', startFailed: false, catalog: [], policies: { descriptors: [], matchers: [], label_spaces: [] },
     model: null, analysis: null, extras: null, analysisMs: 0, promoted: [], retarget: null, shown: null,
   };
   statusHistory = [];   // every status change, for automated checks
@@ -96,6 +96,7 @@ export class Session {
   #now;
   #generation = 0;
   #starting = null;     // the catalog request of start(), while it runs
+  #deferred = null;     // the model asked for while the start had failed
   #inFlight = null;     // the retarget job running: {steps, labelSpace, key, t0, waiters}
   #next = null;         // the one waiting to run
   #promoting = null;    // the promotion running: {offsets, key, waiters}
@@ -111,15 +112,26 @@ export class Session {
   // Starts the worker and asks for the catalog; null (and the error state) when that fails. A model opened
   // meanwhile waits for it (load), and a worker restarted meanwhile is asked again, so the start never ends
   // as "cancelled".
+  // A failed start (state.startFailed) can be tried again by calling start() again; a model opened while it
+  // had failed is loaded once a start succeeds.
   async start() {
+    this.state.startFailed = false;
+    this.#clearError();
     this.#setStatus('loading');
     this.#client.restart();
     this.#starting = this.#askCatalog();
+    let msg = null;
     try {
-      return await this.#starting;
+      msg = await this.#starting;
     } finally {
       this.#starting = null;
     }
+    if (msg && this.#deferred) {
+      const what = this.#deferred;
+      this.#deferred = null;
+      this.load(what);
+    }
+    return msg;
   }
 
   async #askCatalog() {
@@ -131,6 +143,7 @@ export class Session {
         return msg;
       } catch (e) {
         if (e.cancelled) continue;  // the worker was restarted under the request: ask the new one
+        this.state.startFailed = true;
         this.fail(`restitch could not start: ${e.message}`);
         return null;
       }
@@ -144,9 +157,11 @@ export class Session {
   // waits for the catalog first; a later load supersedes it.
   async load(what) {
     const generation = ++this.#generation;
-    if (this.#starting) {
-      await this.#starting;
-      if (generation !== this.#generation || this.state.status === 'error') return;  // superseded, or no start
+    if (this.#starting) await this.#starting;
+    if (generation !== this.#generation) return;  // superseded while the page started
+    if (this.state.startFailed) {  // loaded once a start succeeds (start() again: the page's Retry)
+      this.#deferred = what;
+      return;
     }
     if (this.state.status === 'analyzing' || this.state.status === 'loading') this.#client.restart();
     this.#clearError();

@@ -474,6 +474,31 @@ try {
     return `opened ${seen.length} times: ${seen.map((m) => (typeof m === 'number' ? `${m} ms after navigation` : m)).join(', ')}`;
   });
 
+  await attempt('a failed start says what failed and offers to retry; the retry starts the page', async () => {
+    // The worker's script is refused once (as a dropped connection would), then served.
+    const p4 = await context.newPage();
+    let refused = 0;
+    const handler = async (route) => {
+      if (refused++ === 0) await route.fulfill({ status: 503, body: 'unavailable' });
+      else await route.continue();
+    };
+    await p4.route('**/src/worker.js', handler);
+    try {
+      await p4.goto(`${base}index.html?sample=fence`);
+      await p4.waitForFunction(() => document.body.dataset.status === 'error', null, { timeout: 60000 });
+      const message = await p4.textContent('#error');
+      assert(/could not start/.test(message), `the error says: ${message}`);
+      assert(await p4.isVisible('#retry'), 'no Retry button');
+      await p4.click('#retry');
+      await p4.waitForFunction(() => document.body.dataset.status === 'ready' && window.restitchDemo.analysis,
+                               null, { timeout: 120000 });
+      assert(!(await p4.isVisible('#error')), 'the error is still shown');
+      return `${message.replace(/\s*Retry$/, '')}; after Retry: ready (${refused} requests for the worker's script)`;
+    } finally {
+      await p4.close();
+    }
+  });
+
   await attempt('the console has no errors', async () => {
     assert(consoleErrors.length === 0, consoleErrors.slice(0, 3).join(' | '));
   });

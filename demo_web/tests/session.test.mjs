@@ -384,6 +384,42 @@ test('a model opened while the page starts waits for the catalog, then loads; th
   assert.notEqual(third.session.state.status, 'error');
 });
 
+test('a failed start can be tried again; a model opened meanwhile loads once a start succeeds', async () => {
+  const catalog = { samples: [{ name: 'bookshelf', units: 'm' }], policies: { descriptors: ['shot'] } };
+  const { session, client } = makeSession();
+  const first = session.start();
+  await client.fail('catalog', 'the WebAssembly module did not load');
+  assert.equal(await resolved(first), null);
+  assert.equal(session.state.startFailed, true);
+  assert.equal(session.state.status, 'error');
+  // A file opened now waits: no worker to load it with.
+  const opening = session.load({ file: { name: 'a.glb', bytes: new ArrayBuffer(8) } });
+  await flush();
+  await resolved(opening);
+  assert.equal(client.sent('load').length, 0);
+  assert.equal(session.opened, true);
+  // Tried again: the error goes, the worker is created anew, and the file loads once the catalog is in.
+  const second = session.start();
+  assert.equal(session.state.startFailed, false);
+  assert.equal(session.state.error, '');
+  assert.equal(session.state.status, 'loading');
+  assert.equal(client.restarts, 2);
+  await client.answer('catalog', catalog);
+  assert.equal((await resolved(second)).samples.length, 1);
+  assert.deepEqual(client.sent('load').map((r) => r.payload.file.name), ['a.glb']);
+  await client.answer('load', loaded());
+  await client.answer('analyze', analysed());
+  assert.equal(session.state.status, 'ready');
+  // A start that fails again stays failed, and says so again.
+  const { session: again, client: c2 } = makeSession();
+  again.start();
+  await c2.fail('catalog', 'out of memory');
+  again.start();
+  await c2.fail('catalog', 'out of memory');
+  assert.equal(again.state.startFailed, true);
+  assert.match(again.state.error, /could not start: out of memory/);
+});
+
 test('a promotion makes the 2-pin header resizable: the new analysis is shown, the sliders follow it', async () => {
   const { session, client, named } = makeSession();
   session.load({ sample: { name: 'pin_header', params: { pins: 2 } } });
