@@ -553,8 +553,9 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
     const double have = repeated_length(st, a.lattice, k);
     const Eigen::Vector3d t = a.axes.axes[std::size_t(k)];
     const double extent = a.lattice.cells[k] * t.norm();  // the model's length along t, about
-    // What is tried, in order: multiples (f > 0) or divisors (f < 0) of t, then the shorter significant
-    // offsets parallel to t that are no divisor of it (f = 0, `from` their dominant offset), shortest first.
+    // What is tried, in order: multiples (f > 0) or divisors (f < 0) of t, then the shorter repeats along t
+    // that are no divisor of it (f = 0; `from`: the dominant offset it is, -1 for a lag of the vertices),
+    // shortest first.
     struct Guess {
       Eigen::Vector3d offset;
       int f = 0;
@@ -578,6 +579,14 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       std::vector<Guess> shorter;
       const Eigen::Vector3d dir = t.normalized();
       const bool twice = st.extent_high[k] - st.extent_low[k] < 3;
+      const auto propose = [&](const Eigen::Vector3d& u, int from) {
+        const int m = int(std::lround(t.norm() / u.norm()));
+        if (m >= 2 && m <= options.fundamental.max_divisor && (u - t / double(m)).norm() <= (m + 1) * options.snap.end_radius)
+          return;  // a divisor: tried as one
+        for (const Guess& g : shorter)
+          if ((g.offset - u).norm() <= options.dense_spacing) return;
+        shorter.push_back({u, 0, from});
+      };
       for (std::size_t i = 0; twice && i < a.dominant.size(); ++i) {
         const DominantOffset& d = a.dominant[i];
         const Eigen::Vector3d u = d.offset.dot(dir) < 0 ? Eigen::Vector3d(-d.offset) : d.offset;
@@ -586,12 +595,7 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
         if (!d.significant || pair || u.norm() < options.dense_spacing || u.norm() >= t.norm() - options.dense_spacing ||
             (u - u.dot(dir) * dir).norm() > options.dense_spacing)
           continue;
-        const int m = int(std::lround(t.norm() / u.norm()));
-        if (m >= 2 && m <= options.fundamental.max_divisor && (u - t / double(m)).norm() <= (m + 1) * options.snap.end_radius)
-          continue;  // a divisor: tried as one
-        bool known = false;
-        for (const Guess& g : shorter) known = known || (g.offset - u).norm() <= options.dense_spacing;
-        if (!known) shorter.push_back({u, 0, int(i)});
+        propose(u, int(i));
       }
       // And the shifts along t at which the vertices that shape the model repeat (on lines parallel to t; not
       // those inside flat regions or straight creases, which a fine tessellation repeats at its own step, as
@@ -601,14 +605,8 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       if (twice && shaping.rows() == 0) shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
       for (const Eigen::Vector3d& u : twice ? vertex_lags(shaping, t, options.snap.end_radius, options.dense_spacing,
                                                           options.snap.min_pairs, 4)
-                                            : std::vector<Eigen::Vector3d>{}) {
-        const int m = int(std::lround(t.norm() / u.norm()));
-        if (m >= 2 && m <= options.fundamental.max_divisor && (u - t / double(m)).norm() <= (m + 1) * options.snap.end_radius)
-          continue;  // a divisor: tried as one
-        bool known = false;
-        for (const Guess& g : shorter) known = known || (g.offset - u).norm() <= options.dense_spacing;
-        if (!known) shorter.push_back({u, 0, -1});
-      }
+                                            : std::vector<Eigen::Vector3d>{})
+        propose(u, -1);
       std::stable_sort(shorter.begin(), shorter.end(),
                        [](const Guess& x, const Guess& y) { return x.offset.norm() < y.offset.norm(); });
       guesses.insert(guesses.end(), shorter.begin(), shorter.end());
@@ -647,8 +645,8 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
                                              [&](const SingularPart& p) { return inner(there, p) && p.repeated; });
       // A divisor explains as much of the model as t did, with no more parts inside it (a third of a pitch
       // over a wall subdivided in thirds repeats the wall but makes every pin a part of its own; a quarter of
-      // a bookshelf's column every divider). A shorter repeat found on its own (the offset statistics vote
-      // for it) explains as much, and may make parts of what t's modules held, as long as none of them
+      // a bookshelf's column every divider). A shorter repeat found on its own (the matching voted for it,
+      // or the shaping vertices repeat at it) explains as much, and may make parts of what t's modules held, as long as none of them
       // occurs twice (a slat pitch makes the one rail between two runs a part; where rails recur, the run
       // and its rail are the module). Either must make some neighbouring cells copies (an axis too short to
       // compare any is no answer). And a shorter repeat makes at most one part more than t: the one
