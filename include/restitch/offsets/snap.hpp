@@ -257,11 +257,13 @@ RepeatPrecision repeat_precision(const Eigen::Matrix<double, Eigen::Dynamic, 3>&
 }
 
 /// The shifts along direction `t` shorter than |t| at which vertices repeat: vertices on one line parallel
-/// to t (within `radius` across it, quantized) and their differences along it, gathered within `radius`,
-/// most pairs first; at most `count` of them, each with at least `min_pairs` pairs and at least `min_length`
-/// long. Proposals for docs/method.md 1.12 (a slat pitch no whole division of a run with its rail reaches),
-/// which tests each on the exact surface. Pairs are counted up to `max_pairs` in all (lines in the points'
-/// order), so that a mesh of long straight runs of vertices costs O(#V log #V + max_pairs log max_pairs).
+/// to t (their position across t in one grid cell 4 `radius` wide: a line that straddles a cell boundary
+/// loses some pairs, which a proposal can afford) and their differences along it, gathered within
+/// 2 `radius`, most pairs first; at most `count` of them, each with at least `min_pairs` pairs and at least
+/// `min_length` long. Proposals for docs/method.md 1.12 (a slat pitch no whole division of a run with its
+/// rail reaches), which tests each on the exact surface. Pairs are counted up to `max_pairs` in all (lines
+/// in the order of their cells), so that a mesh of long straight runs of vertices costs
+/// O(#V log #V + max_pairs log max_pairs). Deterministic.
 template <class = void>
 std::vector<Eigen::Vector3d> vertex_lags(const Eigen::Matrix<double, Eigen::Dynamic, 3>& points, const Eigen::Vector3d& t,
                                          double radius, double min_length, std::size_t min_pairs, std::size_t count,
