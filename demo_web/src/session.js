@@ -42,7 +42,8 @@
 //   timed(retarget)           its time from request to view, `retarget.pageMs`, is known
 //   redraw()                  a load or an analysis failed: the view should draw the state as it is now
 //
-// state: status, error, startFailed (the last start failed: start() tries again), catalog [{name, units, ...}], policies {descriptors, matchers, label_spaces},
+// state: status, error, startFailed (the last start failed: start() tries again), catalog [{name, units, ...}],
+//   policies {descriptors, matchers, label_spaces},
 //   model {name, units, info, inputMesh, materials} (info: the worker's load answer: bbox_min/max, triangles,
 //   warnings, ...), analysis (`restitch analyze --json` fields), extras (raw match offsets for the histogram),
 //   analysisMs, promoted [[x, y, z]...] (the offsets made principal on request, [] for the detected ones),
@@ -83,7 +84,8 @@ function replace(waiting, job, what) {
 
 export class Session {
   state = {
-    status: 'loading', error: '', startFailed: false, catalog: [], policies: { descriptors: [], matchers: [], label_spaces: [] },
+    status: 'loading', error: '', startFailed: false, catalog: [],
+    policies: { descriptors: [], matchers: [], label_spaces: [] },
     model: null, analysis: null, extras: null, analysisMs: 0, promoted: [], retarget: null, shown: null,
   };
   statusHistory = [];   // every status change, for automated checks
@@ -111,9 +113,8 @@ export class Session {
 
   // Starts the worker and asks for the catalog; null (and the error state) when that fails. A model opened
   // meanwhile waits for it (load), and a worker restarted meanwhile is asked again, so the start never ends
-  // as "cancelled".
-  // A failed start (state.startFailed) can be tried again by calling start() again; a model opened while it
-  // had failed is loaded once a start succeeds.
+  // as "cancelled". A failed start (state.startFailed) is tried again by calling start() again; a model
+  // opened while it had failed is loaded once a start succeeds.
   async start() {
     this.state.startFailed = false;
     this.#clearError();

@@ -503,19 +503,14 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
   return {};
 }
 
-/// The normalized positions of the mesh's vertices that shape it (equal positions once; without the
-/// shape-neutral ones inside a flat region or a straight crease, sampling/features.hpp, unless `keep_flat`):
-/// where they repeat, the model does, and not only its tessellation.
+/// The normalized positions of the vertices that shape the model (detail::shaping_representatives, equal
+/// positions once); empty when a referenced vertex is not finite.
 template <class = void>
 Eigen::Matrix<double, Eigen::Dynamic, 3> shape_vertices(const Mesh& mesh, const Normalization& norm, bool keep_flat) {
   std::vector<std::uint32_t> rep, order;
   Eigen::Matrix<double, Eigen::Dynamic, 3> P(0, 3);
   if (!detail::merge_equal_positions(mesh, rep, order).ok()) return P;
-  std::vector<char> neutral;
-  if (!keep_flat) neutral = detail::shape_neutral(mesh, rep);
-  std::vector<std::uint32_t> reps;
-  for (const std::uint32_t v : order)
-    if (rep[v] == v && (keep_flat || !neutral[v])) reps.push_back(v);
+  const std::vector<std::uint32_t> reps = detail::shaping_representatives(mesh, rep, order, keep_flat);
   P.resize(Eigen::Index(reps.size()), 3);
   for (std::size_t i = 0; i < reps.size(); ++i)
     P.row(Eigen::Index(i)) = norm.to_normalized(mesh.V.row(reps[i]).transpose().template cast<double>()).transpose();
@@ -581,7 +576,8 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       const bool twice = st.extent_high[k] - st.extent_low[k] < 3;
       const auto propose = [&](const Eigen::Vector3d& u, int from) {
         const int m = int(std::lround(t.norm() / u.norm()));
-        if (m >= 2 && m <= options.fundamental.max_divisor && (u - t / double(m)).norm() <= (m + 1) * options.snap.end_radius)
+        if (m >= 2 && m <= options.fundamental.max_divisor &&
+            (u - t / double(m)).norm() <= (m + 1) * options.snap.end_radius)
           return;  // a divisor: tried as one
         for (const Guess& g : shorter)
           if ((g.offset - u).norm() <= options.dense_spacing) return;
@@ -592,8 +588,8 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
         const Eigen::Vector3d u = d.offset.dot(dir) < 0 ? Eigen::Vector3d(-d.offset) : d.offset;
         const bool pair = std::any_of(d.tests.begin(), d.tests.end(),
                                       [](const OffsetTest& x) { return x.name == "pair_third_copy"; });
-        if (!d.significant || pair || u.norm() < options.dense_spacing || u.norm() >= t.norm() - options.dense_spacing ||
-            (u - u.dot(dir) * dir).norm() > options.dense_spacing)
+        if (!d.significant || pair || u.norm() < options.dense_spacing ||
+            u.norm() >= t.norm() - options.dense_spacing || (u - u.dot(dir) * dir).norm() > options.dense_spacing)
           continue;
         propose(u, int(i));
       }
@@ -643,21 +639,19 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       };
       const bool repeated_part = std::any_of(there.parts.begin(), there.parts.end(),
                                              [&](const SingularPart& p) { return inner(there, p) && p.repeated; });
-      // A divisor explains as much of the model as t did, with no more parts inside it (a third of a pitch
-      // over a wall subdivided in thirds repeats the wall but makes every pin a part of its own; a quarter of
-      // a bookshelf's column every divider). A shorter repeat found on its own (the matching voted for it,
-      // or the shaping vertices repeat at it) explains as much, and may make parts of what t's modules held, as long as none of them
-      // occurs twice (a slat pitch makes the one rail between two runs a part; where rails recur, the run
-      // and its rail are the module). Either must make some neighbouring cells copies (an axis too short to
-      // compare any is no answer). And a shorter repeat makes at most one part more than t: the one
-      // boundary between t's two copies (the rail between two runs); from three copies of t on, what lies
-      // between them recurs, and t is the module (so too a tessellation's step across a bookshelf's
-      // columns, whose dividers fall at a different phase in each of its cells and are no copies slab for
-      // slab).
+      // Either must make some neighbouring cells copies (an axis too short to compare any is no answer).
+      // A divisor explains as much of the model as t did, one period aside (the end slabs fall differently),
+      // with no more parts inside it (a third of a pitch over a wall subdivided in thirds repeats the wall
+      // but makes every pin a part of its own; a quarter of a bookshelf's column every divider).
+      // A shorter repeat found on its own (the matching voted for it, or the shaping vertices repeat at it)
+      // is another repeat, not t cut finer, so no end falls differently: it covers at least what t's copies
+      // did, and where t's cells are no copies (t is two copies: each whole slab is an end) at least half of
+      // the length t's lattice spans, as two copies must make up half the model (1.13). It may make a part
+      // of the one boundary between t's two copies (the rail between two runs), no more; and no part may
+      // occur twice: from three copies of t on, what lies between them recurs and t is the module (so too a
+      // tessellation's step across a bookshelf's columns, whose dividers fall at a different phase in each
+      // of its cells and are no copies slab for slab, which the count catches).
       const bool covers = got >= have - t.norm() / a.normalization.scale;
-      // A shorter repeat is another repeat, not t cut finer, so no end falls differently: it covers at least
-      // what t's copies did, and where t's cells are no copies (t is two copies: each whole slab is an end)
-      // at least half of the length t's lattice spans, as two copies must make up half the model (1.13).
       const double spans = a.lattice.cells[k] * t.norm() / a.normalization.scale;
       const bool covers_more = have > 0 ? got >= have : got >= 0.5 * spans;
       if (!(got > 0) || (f < 0 && (!covers || inner_parts(there) > inner_parts(st))) ||

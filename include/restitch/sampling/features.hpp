@@ -287,6 +287,20 @@ Status thin_vertices(std::vector<std::uint32_t>& reps, std::size_t cap, double s
   return {};
 }
 
+/// The representatives that shape the model (rep[v] == v, in `order`), without the shape-neutral ones
+/// (inside a flat region or a straight crease) unless `keep_flat`: where they repeat, the model does, and not
+/// only its tessellation.
+template <class = void>
+std::vector<std::uint32_t> shaping_representatives(const Mesh& mesh, const std::vector<std::uint32_t>& rep,
+                                                   const std::vector<std::uint32_t>& order, bool keep_flat) {
+  std::vector<char> neutral;
+  if (!keep_flat) neutral = shape_neutral(mesh, rep);
+  std::vector<std::uint32_t> reps;
+  for (const std::uint32_t v : order)
+    if (rep[v] == v && (keep_flat || !neutral[v])) reps.push_back(v);
+  return reps;
+}
+
 }  // namespace detail
 
 template <class = void>
@@ -305,11 +319,7 @@ Result<PointSet> vertex_features(const Mesh& mesh, const Normalization& norm, st
   RESTITCH_TRY(detail::merge_equal_positions(mesh, rep, order));
   std::vector<Eigen::Vector3d> sum, best_normal;
   detail::representative_normals(mesh, rep, sum, best_normal);
-  std::vector<char> neutral;
-  if (!keep_flat) neutral = detail::shape_neutral(mesh, rep);
-  std::vector<std::uint32_t> reps;
-  for (std::uint32_t v : order)
-    if (rep[v] == v && (keep_flat || !neutral[v])) reps.push_back(v);
+  std::vector<std::uint32_t> reps = detail::shaping_representatives(mesh, rep, order, keep_flat);
   std::sort(reps.begin(), reps.end());
 
   auto position = [&](std::uint32_t v) { return norm.to_normalized(mesh.V.row(v).transpose().cast<double>()); };
