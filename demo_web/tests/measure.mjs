@@ -14,15 +14,13 @@
 //   the same way on both sides). --json: writes every figure to FILE.
 import fs from 'node:fs';
 import os from 'node:os';
-import net from 'node:net';
 import path from 'node:path';
-import { spawn, spawnSync } from 'node:child_process';
-import { createRequire } from 'node:module';
+import { spawnSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
+import { serve, launch } from './browser.mjs';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const demo = path.resolve(here, '..');
-const { chromium } = createRequire(path.join(demo, 'package.json'))('playwright-core');
 const modelsDir = path.resolve(demo, '../../shared/models');
 const args = process.argv.slice(2);
 const option = (name) => { const i = args.indexOf(name); if (i < 0) return null; const v = args[i + 1]; args.splice(i, 2); return v; };
@@ -55,21 +53,13 @@ function nativeAnalysis(m, policies) {
   }
 }
 
-const port = await new Promise((resolve) => {
-  const srv = net.createServer().listen(0, '127.0.0.1', () => { const p = srv.address().port; srv.close(() => resolve(p)); });
-});
-const server = spawn('python3', ['-m', 'http.server', String(port), '--bind', '127.0.0.1'], { cwd: demo, stdio: 'ignore' });
-const userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'restitch-measure-'));
-const context = await chromium.launchPersistentContext(userDataDir, {
-  executablePath: '/usr/bin/chromium', headless: true, viewport: { width: 1280, height: 800 },
-  args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-quic',
-         '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-});
+const server = await serve(demo);
+const context = await launch();
 const median = (xs) => { const s = xs.slice().sort((a, b) => a - b); return s[s.length >> 1]; };
 try {
   const page = context.pages()[0] || await context.newPage();
   for (let i = 0; i < 100; ++i) {
-    try { await page.goto(`http://127.0.0.1:${port}/index.html${query}`); break; } catch { await new Promise((r) => setTimeout(r, 100)); }
+    try { await page.goto(`${server.base}index.html${query}`); break; } catch { await new Promise((r) => setTimeout(r, 100)); }
   }
   const ready = () => page.waitForFunction(() => ['ready', 'error'].includes(document.body.dataset.status), null,
                                            { timeout: 600000, polling: 50 });
@@ -134,6 +124,5 @@ try {
   if (jsonOut) fs.writeFileSync(jsonOut, JSON.stringify({ query, native: nativeBin, models: figures }, null, 1));
 } finally {
   await context.close();
-  server.kill();
-  fs.rmSync(userDataDir, { recursive: true, force: true });
+  server.close();
 }

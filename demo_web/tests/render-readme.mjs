@@ -6,16 +6,12 @@
 // Not a test: run it by hand after a change that alters the pictures.
 // Usage: node demo_web/tests/render-readme.mjs [--view labels|shaded|seams] [--before-view VIEW] [--zoom 0.78]
 import fs from 'node:fs';
-import os from 'node:os';
-import net from 'node:net';
 import path from 'node:path';
-import { spawn } from 'node:child_process';
-import { createRequire } from 'node:module';
 import { fileURLToPath } from 'node:url';
+import { serve, launch } from './browser.mjs';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const demo = path.resolve(here, '..');
-const { chromium } = createRequire(path.join(demo, 'package.json'))('playwright-core');
 const arg = (name, fallback) => {
   const i = process.argv.indexOf(name);
   return i > 0 && process.argv[i + 1] ? process.argv[i + 1] : fallback;
@@ -25,24 +21,16 @@ const beforeView = arg('--before-view', view);
 const steps = [2, 1, 0];
 const zoom = Number(arg('--zoom', '0.78'));  // camera distance relative to the page's framing
 
-const port = await new Promise((resolve) => {
-  const srv = net.createServer().listen(0, '127.0.0.1', () => { const p = srv.address().port; srv.close(() => resolve(p)); });
-});
-const server = spawn('python3', ['-m', 'http.server', String(port), '--bind', '127.0.0.1'], { cwd: demo, stdio: 'ignore' });
-const userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'restitch-render-'));
+const server = await serve(demo);
 let context;
 let code = 0;
 try {
-  context = await chromium.launchPersistentContext(userDataDir, {
-    executablePath: '/usr/bin/chromium', headless: true, viewport: { width: 640, height: 480 }, deviceScaleFactor: 1,
-    args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-quic',
-           '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-  });
+  context = await launch({ viewport: { width: 640, height: 480 }, deviceScaleFactor: 1 });
   const page = context.pages()[0] || await context.newPage();
   const errors = [];
   page.on('pageerror', (e) => errors.push(e.message));
   for (let i = 0; i < 100; ++i) {
-    try { await page.goto(`http://127.0.0.1:${port}/index.html?sample=bookshelf`); break; } catch { await new Promise((r) => setTimeout(r, 100)); }
+    try { await page.goto(`${server.base}index.html?sample=bookshelf`); break; } catch { await new Promise((r) => setTimeout(r, 100)); }
   }
   await page.waitForFunction(() => ['ready', 'error'].includes(document.body.dataset.status), null,
                              { timeout: 120000, polling: 100 });
@@ -75,7 +63,6 @@ try {
   code = 1;
 } finally {
   if (context) await context.close().catch(() => {});
-  server.kill();
-  fs.rmSync(userDataDir, { recursive: true, force: true });
+  server.close();
 }
 process.exit(code);
