@@ -139,6 +139,20 @@ class Session {
     return adopt(std::move(*m), report.warnings);
   }
 
+  // A mesh given as arrays (world space, model units), as a three.js BufferGeometry holds it:
+  //   {positions: Float32Array (x, y, z per vertex), indices: Uint32Array (3 per triangle),
+  //    normals?: Float32Array, uvs?: [Float32Array (u, v per vertex, glTF convention)...],
+  //    colors?: Float32Array (r, g, b, a per vertex, linear),
+  //    groups?: [{start, count, material?, name?}] (ranges of `indices`, in order, covering it; one group when
+  //             absent)}
+  // A vertex used by faces of two groups is copied into each (restitch::Mesh keeps groups apart).
+  val load_arrays(val arrays) {
+    Result<Mesh> m = mesh_from_arrays(arrays);
+    if (!m) return status_object(m.status());
+    if (Status s = validate(*m); !s) return status_object(s);
+    return adopt(std::move(*m), {});
+  }
+
   val load_sample(const std::string& name, val overrides) {
     std::map<std::string, double> values;
     if (overrides.typeOf().as<std::string>() == "object" && !overrides.isNull()) {
@@ -238,6 +252,26 @@ class Session {
     if (Status s = ensure_retargeter(label_space, *energy); !s) return status_object(s);
     retargeter_->set_pivot(*pivots);
     Result<RetargetResult> r = retargeter_->retarget(*steps);
+    if (!r) return status_object(r.status());
+    result_ = std::make_unique<RetargetResult>(std::move(*r));
+    return retarget_answer(*result_, *analysis_, label_space);
+  }
+
+  // Resize to a bounding-box size (model units; 0 keeps an axis): the nearest whole repeats, and with `exact`
+  // a scale about the pivot to the size asked (Retargeter::retarget_to_size). The same answer as retarget.
+  val retarget_to_size(double x, double y, double z, bool exact, const std::string& label_space,
+                       const std::string& pivot, const std::string& seam_energy) {
+    Result<SeamEnergy> energy = seam_energy_named(seam_energy);
+    if (!energy) return status_object(energy.status());
+    Result<Pivots> pivots = parse_pivots(pivot);
+    if (!pivots) return status_object(pivots.status());
+    if (!input_ || !analysis_)
+      return status_object(error(StatusCode::invalid_argument, "analyse the model before resizing it"));
+    const Eigen::Vector3d size(x, y, z);
+    if (Status s = check_size_values(size); !s) return status_object(s);
+    if (Status s = ensure_retargeter(label_space, *energy); !s) return status_object(s);
+    retargeter_->set_pivot(*pivots);
+    Result<RetargetResult> r = retargeter_->retarget_to_size(size, exact);
     if (!r) return status_object(r.status());
     result_ = std::make_unique<RetargetResult>(std::move(*r));
     return retarget_answer(*result_, *analysis_, label_space);
@@ -460,6 +494,9 @@ class Session {
     out.set("positions", typed_array("Float32Array", m.V.data(), nv * 3));
     if (m.N.rows()) out.set("normals", typed_array("Float32Array", m.N.data(), nv * 3));
     if (!m.UV.empty()) out.set("uvs", typed_array("Float32Array", m.UV[0].data(), nv * 2));
+    val uv_sets = val::array();  // every set, TEXCOORD_0 first (uvs is the first one)
+    for (const MatrixX2f& uv : m.UV) uv_sets.call<void>("push", typed_array("Float32Array", uv.data(), nv * 2));
+    out.set("uvSets", uv_sets);
     if (m.C.rows()) out.set("colors", typed_array("Float32Array", m.C.data(), nv * 4));
     const std::vector<std::uint32_t> order = face_order(m);
     std::vector<std::uint32_t> idx(order.size() * 3);
@@ -476,12 +513,130 @@ class Session {
       o.set("count", double(count * 3));
       o.set("material", m.groups[g].material);
       o.set("colors", m.groups[g].attributes.color_components > 0);
+      o.set("group", double(g));  // the index of the input's group it comes from (stitching keeps groups)
       o.set("name", m.groups[g].name);
       groups.call<void>("push", o);
       start += count;
     }
     out.set("groups", groups);
     return out;
+  }
+
+  template <class T>
+  static Result<std::vector<T>> numbers(const val& arrays, const char* name, bool required) {
+    const val v = arrays[name];
+    if (v.isUndefined() || v.isNull()) {
+      if (required) return error(StatusCode::invalid_argument, std::string("the mesh arrays have no ") + name);
+      return std::vector<T>{};
+    }
+    if (!v["length"].isNumber())
+      return error(StatusCode::invalid_argument, std::string(name) + " is not an array of numbers");
+    return emscripten::convertJSArrayToNumberVector<T>(v);
+  }
+
+  static Result<Mesh> mesh_from_arrays(const val& arrays) {
+    if (arrays.typeOf().as<std::string>() != "object" || arrays.isNull())
+      return error(StatusCode::invalid_argument, "give the mesh as {positions, indices, ...}");
+    Result<std::vector<float>> pos_r = numbers<float>(arrays, "positions", true);
+    Result<std::vector<std::uint32_t>> idx_r = numbers<std::uint32_t>(arrays, "indices", true);
+    Result<std::vector<float>> nrm_r = numbers<float>(arrays, "normals", false);
+    Result<std::vector<float>> col_r = numbers<float>(arrays, "colors", false);
+    for (const Status& s : {pos_r.status(), idx_r.status(), nrm_r.status(), col_r.status()})
+      if (!s) return s;
+    const std::vector<float>& pos = *pos_r;
+    const std::vector<std::uint32_t>& idx = *idx_r;
+    const std::vector<float>& nrm = *nrm_r;
+    const std::vector<float>& col = *col_r;
+    const std::size_t nv = pos.size() / 3;
+    auto bad = [](const std::string& what) { return error(StatusCode::invalid_argument, what); };
+    if (pos.size() % 3) return bad("positions: the length is not a multiple of 3");
+    if (idx.empty() || idx.size() % 3) return bad("indices: the length is not a positive multiple of 3");
+    if (!nrm.empty() && nrm.size() != 3 * nv) return bad("normals: not 3 numbers per vertex");
+    if (!col.empty() && col.size() != 4 * nv) return bad("colors: not 4 numbers (RGBA) per vertex");
+    for (std::uint32_t i : idx)
+      if (i >= nv) return bad("indices: index " + std::to_string(i) + " is past the last vertex");
+    std::vector<std::vector<float>> uvs;
+    const val uv_list = arrays["uvs"];
+    if (!uv_list.isUndefined() && !uv_list.isNull()) {
+      if (!val::global("Array").call<bool>("isArray", uv_list)) return bad("uvs: an array of Float32Array, one per set");
+      const int n = uv_list["length"].as<int>();
+      if (std::size_t(n) > max_uv_sets) return bad("uvs: at most " + std::to_string(max_uv_sets) + " sets");
+      for (int k = 0; k < n; ++k) {
+        uvs.push_back(emscripten::convertJSArrayToNumberVector<float>(uv_list[k]));
+        if (uvs.back().size() != 2 * nv) return bad("uvs[" + std::to_string(k) + "]: not 2 numbers per vertex");
+      }
+    }
+    // The groups: ranges of indices, in order, covering them.
+    struct Range { std::size_t start, count; int material; std::string name; };
+    std::vector<Range> ranges;
+    const val groups = arrays["groups"];
+    if (groups.isUndefined() || groups.isNull()) {
+      ranges.push_back({0, idx.size(), -1, "arrays"});
+    } else {
+      if (!val::global("Array").call<bool>("isArray", groups)) return bad("groups: an array of {start, count}");
+      std::size_t next = 0;
+      for (int g = 0, n = groups["length"].as<int>(); g < n; ++g) {
+        const val o = groups[g];
+        const std::string at = "groups[" + std::to_string(g) + "]";
+        if (o.typeOf().as<std::string>() != "object" || !o["start"].isNumber() || !o["count"].isNumber())
+          return bad(at + ": not {start, count}");
+        const double start = o["start"].as<double>(), count = o["count"].as<double>();
+        if (start != double(next) || count < 0 || std::fmod(count, 3.0) != 0 || start + count > double(idx.size()))
+          return bad(at + ": groups must follow each other from index 0, each a multiple of 3 indices long");
+        const int material = o["material"].isNumber() ? o["material"].as<int>() : -1;
+        if (material < -1) return bad(at + ": material must be -1 (none) or an index");
+        ranges.push_back({next, std::size_t(count), material,
+                          o["name"].isString() ? o["name"].as<std::string>() : "group " + std::to_string(g)});
+        next += std::size_t(count);
+      }
+      if (next != idx.size()) return bad("groups: they cover " + std::to_string(next) + " of " +
+                                         std::to_string(idx.size()) + " indices");
+    }
+    Mesh m;
+    int materials = 0;
+    for (const Range& r : ranges) materials = std::max(materials, r.material + 1);
+    for (int k = 0; k < materials; ++k) m.materials.push_back(Material{"material " + std::to_string(k)});
+    // Each group gets its own copy of the vertices it uses.
+    std::vector<std::uint32_t> source;  // new vertex -> given vertex
+    std::vector<std::uint32_t> faces;
+    std::vector<std::uint32_t> face_group;
+    std::vector<std::int64_t> local(nv, -1);
+    for (std::size_t g = 0; g < ranges.size(); ++g) {
+      const Range& r = ranges[g];
+      std::fill(local.begin(), local.end(), -1);
+      for (std::size_t q = r.start; q < r.start + r.count; ++q) {
+        const std::uint32_t v = idx[q];
+        if (local[v] < 0) {
+          local[v] = std::int64_t(source.size());
+          source.push_back(v);
+        }
+        faces.push_back(std::uint32_t(local[v]));
+        if ((q - r.start) % 3 == 2) face_group.push_back(std::uint32_t(g));
+      }
+      Group group;
+      group.material = r.material;
+      group.name = r.name;
+      group.attributes.normals = !nrm.empty();
+      group.attributes.uv_sets = int(uvs.size());
+      group.attributes.color_components = col.empty() ? 0 : 4;
+      m.groups.push_back(group);
+    }
+    const Eigen::Index n = Eigen::Index(source.size());
+    m.V.resize(n, 3);
+    if (!nrm.empty()) m.N.resize(n, 3);
+    if (!col.empty()) m.C.resize(n, 4);
+    m.UV.assign(uvs.size(), MatrixX2f(n, 2));
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const std::size_t s = source[std::size_t(i)];
+      for (int k = 0; k < 3; ++k) m.V(i, k) = pos[3 * s + std::size_t(k)];
+      for (int k = 0; k < 3 && !nrm.empty(); ++k) m.N(i, k) = nrm[3 * s + std::size_t(k)];
+      for (int k = 0; k < 4 && !col.empty(); ++k) m.C(i, k) = col[4 * s + std::size_t(k)];
+      for (std::size_t u = 0; u < uvs.size(); ++u)
+        for (int k = 0; k < 2; ++k) m.UV[u](i, k) = uvs[u][2 * s + std::size_t(k)];
+    }
+    m.F = Eigen::Map<const MatrixX3u>(faces.data(), Eigen::Index(faces.size() / 3), 3);
+    m.FG = Eigen::Map<const VectorXu>(face_group.data(), Eigen::Index(face_group.size()));
+    return m;
   }
 
   std::unique_ptr<Mesh> input_;
@@ -543,12 +698,14 @@ EMSCRIPTEN_BINDINGS(restitch_web) {
       .constructor<>()
       .function("loadGltf", &Session::load_gltf)
       .function("loadSample", &Session::load_sample)
+      .function("loadArrays", &Session::load_arrays)
       .function("analyze", &Session::analyze)
       .function("analyze", &Session::analyze_with)
       .function("promote", &Session::promote)
       .function("retarget", &Session::retarget)
       .function("retarget", &Session::retarget_about)
       .function("retarget", &Session::retarget_with)
+      .function("retargetToSize", &Session::retarget_to_size)
       .function("prepare", &Session::prepare)
       .function("mesh", &Session::mesh)
       .function("saveGlb", &Session::save_glb);

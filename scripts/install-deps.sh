@@ -7,7 +7,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 native=(cmake make ninja-build g++ libeigen3-dev libnanoflann-dev libtinygltf-dev nlohmann-json3-dev catch2 libcli11-dev)
 page=(emscripten nodejs npm)
-web=("${page[@]}" chromium clang-14 libclang-rt-14-dev)  # and the browser tests and fuzz targets (scripts/fuzz.sh)
+web=("${page[@]}" chromium clang-14 libclang-rt-14-dev jq)  # and the browser tests, fuzz targets (scripts/fuzz.sh), golden.sh
 want=("${native[@]}")
 case "${1:-}" in
   --native) ;;
@@ -30,6 +30,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo_cmd apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
-if [ "${1:-}" != "--native" ] && [ ! -d "$root/demo_web/node_modules/playwright-core" -o ! -d "$root/demo_web/node_modules/gltf-validator" ]; then
+if [ "${1:-}" != "--native" ] && { [ ! -d "$root/demo_web/node_modules/playwright-core" ] || [ ! -d "$root/demo_web/node_modules/gltf-validator" ] ||
+  [ ! -d "$root/demo_web/node_modules/typescript" ] || [ ! -d "$root/demo_web/node_modules/@types/three" ]; }; then
   (cd "$root/demo_web" && npm ci --no-audit --no-fund --loglevel=error)
 fi

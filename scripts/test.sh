@@ -4,7 +4,8 @@
 #   2. the same tests under AddressSanitizer + UndefinedBehaviorSanitizer, then a 20 s fuzz smoke per
 #      libFuzzer target (scripts/fuzz.sh)
 #   3. the Emscripten build of the tests, run under node
-#   4. the web demo's node and browser tests (when the demo is built)
+#   4. the web demo's node and browser tests, and the npm package's (packed, installed, compared with the
+#      native tool)
 # Ends with a line "N passed, N failed" over all stages; exits non-zero on any failure.
 set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -54,8 +55,9 @@ for t in gltf mrf xyzn pipeline; do
 done
 
 stage "WebAssembly (Emscripten) build of the tests, under node"
-# The same configuration builds the web demo's module (demo_web/dist), reused by stage 4.
-if build build/wasm "restitch_tests restitch_web" \
+# The same configuration builds the web demo's module (demo_web/npm/dist) and the command-line tool's
+# WebAssembly build, reused by stage 4 (the page, and the npm package packed and installed).
+if build build/wasm "restitch_tests restitch_web restitch_cli" \
     -DCMAKE_TOOLCHAIN_FILE=/usr/share/emscripten/cmake/Modules/Platform/Emscripten.cmake \
     -DCMAKE_BUILD_TYPE=Release -DRESTITCH_BUILD_EXAMPLES=OFF -DRESTITCH_BUILD_BENCH=OFF -DRESTITCH_BUILD_WEB=ON \
     -DCMAKE_CROSSCOMPILING_EMULATOR=/usr/bin/node; then
@@ -65,7 +67,7 @@ fi
 if [ -f "$root/demo_web/tests/run.sh" ]; then
   stage "web demo: node and browser tests"
   log=build/web-tests.log
-  RESTITCH_WEB_BUILD="$root/build/wasm" bash "$root/demo_web/tests/run.sh" 2>&1 | tee "$log"
+  RESTITCH_WEB_BUILD="$root/build/wasm" RESTITCH_NATIVE="$root/build/native/restitch" bash "$root/demo_web/tests/run.sh" 2>&1 | tee "$log"
   line=$(grep -E "^[0-9]+ passed, [0-9]+ failed" "$log" | tail -1)
   if [ -z "$line" ]; then broken=$((broken + 1)); else
     passed=$((passed + $(echo "$line" | cut -d' ' -f1))); failed=$((failed + $(echo "$line" | cut -d' ' -f3 | tr -d ,)))

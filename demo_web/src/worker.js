@@ -30,7 +30,7 @@
 // preparing the first resize, after the analysis was answered, is the answer to the next request). The worker's URL
 // may carry ?memory=MB, the most memory the module may grow to (default and upper bound 2048 MB, the
 // module's link-time maximum; lower bound 64 MB).
-import { loadRestitch } from './restitch.js';
+import { loadRestitch } from '../npm/index.js';  // the npm package's loader: the page is its first client
 import { trapAnswer, memoryLimitPages } from './trap.js';
 
 const maxPages = memoryLimitPages(self.location ? new URL(self.location.href).searchParams.get('memory') : null);

@@ -8,16 +8,14 @@
 // Usage: node demo_web/tests/e2e.mjs  (exit code 1 on any failure)
 import fs from 'node:fs';
 import os from 'node:os';
-import net from 'node:net';
 import path from 'node:path';
-import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
 import { fileURLToPath } from 'node:url';
+import { serve, launch } from './browser.mjs';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const demo = path.resolve(here, '..');
 const require = createRequire(path.join(demo, 'package.json'));
-const { chromium } = require('playwright-core');
 const validator = require('gltf-validator');
 const modelsDir = path.resolve(demo, '../../shared/models');
 const realModel = path.join(modelsDir, 'scopia_japanese_style_screen.glb');
@@ -37,39 +35,12 @@ async function attempt(name, fn) {
 }
 function assert(cond, message) { if (!cond) throw new Error(message); }
 
-function freePort() {
-  return new Promise((resolve, reject) => {
-    const srv = net.createServer();
-    srv.once('error', reject);
-    srv.listen(0, '127.0.0.1', () => { const { port } = srv.address(); srv.close(() => resolve(port)); });
-  });
-}
-
-async function waitForServer(url, ms) {
-  const end = Date.now() + ms;
-  while (Date.now() < end) {
-    try { if ((await fetch(url)).ok) return; } catch { /* not yet */ }
-    await new Promise((r) => setTimeout(r, 100));
-  }
-  throw new Error(`the static server did not answer at ${url}`);
-}
-
-const port = await freePort();
-const server = spawn('python3', ['-m', 'http.server', String(port), '--bind', '127.0.0.1'],
-                     { cwd: demo, stdio: 'ignore' });
-const base = `http://127.0.0.1:${port}/`;
-const userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'restitch-e2e-'));
+const server = await serve(demo);
+const base = server.base;
+const userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'restitch-e2e-'));  // files the test writes
 let context;
 try {
-  await waitForServer(base, 15000);
-  context = await chromium.launchPersistentContext(userDataDir, {
-    executablePath: '/usr/bin/chromium',
-    headless: true,
-    acceptDownloads: true,
-    viewport: { width: 1280, height: 800 },
-    args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-quic',
-           '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-  });
+  context = await launch({ acceptDownloads: true });
   const page = context.pages()[0] || await context.newPage();
   const consoleErrors = [];
   page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
@@ -241,7 +212,7 @@ try {
     assert(await page.isVisible('#error') && /broken\.glb/.test(text) && /glTF/.test(text), `error text: ${text}`);
   });
   await attempt('a .glb from disk (fence sample written by the module) reaches ready', async () => {
-    const { loadRestitch } = await import('../src/restitch.js');
+    const { loadRestitch } = await import('../npm/index.js');
     const restitch = await loadRestitch();
     const s = new restitch.Session();
     s.loadSample('fence', {});
@@ -506,7 +477,7 @@ try {
   check('the end-to-end run completed', false, e && e.message ? e.message.split('\n')[0] : String(e));
 } finally {
   if (context) await context.close().catch(() => {});
-  server.kill();
+  server.close();
   fs.rmSync(userDataDir, { recursive: true, force: true });
 }
 console.log(`e2e: ${passed} passed, ${failed} failed`);

@@ -1,4 +1,4 @@
-// Node tests of the WebAssembly module (dist/restitch_web.mjs) through src/restitch.js:
+// Node tests of the WebAssembly module (npm/dist/restitch_web.mjs) through the package's loader (npm/index.js):
 // bytes in, analyze, retarget, .glb bytes out that the Khronos glTF-Validator accepts.
 // Run: node --test demo_web/tests/module.test.mjs (after building the module; tests/run.sh does both).
 import test from 'node:test';
@@ -7,7 +7,7 @@ import fs from 'node:fs';
 import path from 'node:path';
 import { createRequire } from 'node:module';
 import { fileURLToPath } from 'node:url';
-import { loadRestitch } from '../src/restitch.js';
+import { loadRestitch } from '../npm/index.js';
 import { WorkerClient } from '../src/worker-client.js';
 import { Session as PageSession } from '../src/session.js';
 

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The web demo's tests: builds the WebAssembly module when missing or stale (build/web, Emscripten),
 # runs the node tests (node --test: the module, and the page's state machine and worker client against
-# fakes) and the end-to-end test of the page in Debian's Chromium (playwright-core), and ends with one
-# line "N passed, M failed" over all checks.
+# fakes), the end-to-end test of the page in Debian's Chromium (playwright-core) and the npm package's test
+# (tests/package.mjs: packed, installed elsewhere, compared with the native tool: RESTITCH_NATIVE or
+# build/native/restitch), and ends with one line "N passed, M failed" over all checks.
 # Exits non-zero on any failure. Called by scripts/test.sh; runs alone too.
 set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -37,6 +38,17 @@ if [ -x /usr/bin/chromium ]; then
   fi
 else
   echo "/usr/bin/chromium is missing: the end-to-end test cannot run (scripts/install-deps.sh installs it)"
+  failed=$((failed + 1))
+fi
+
+echo "--- web demo: the npm package (packed, installed elsewhere; node, npx, TypeScript, three.js in Chromium)"
+if [ -x /usr/bin/chromium ]; then
+  node "$here/package.mjs" 2>&1 | tee "$log/package.log"
+  line=$(grep -E '^package: [0-9]+ passed, [0-9]+ failed' "$log/package.log" | tail -1)
+  if [ -z "$line" ]; then failed=$((failed + 1)); else
+    passed=$((passed + $(echo "$line" | awk '{print $2}'))); failed=$((failed + $(echo "$line" | awk '{print $4}')))
+  fi
+else
   failed=$((failed + 1))
 fi
 

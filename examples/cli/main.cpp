@@ -1,5 +1,8 @@
 // restitch: resize man-made 3D models along their repeats.
 #include <unistd.h>
+#ifdef __EMSCRIPTEN__
+#include <emscripten.h>
+#endif
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -37,8 +40,18 @@ int fail(const Status& s, bool writing) {
   return exit_code_for(s, writing);
 }
 
+// Whether standard error is a terminal. Under node (the WebAssembly build, `npx restitch`) Emscripten's
+// isatty answers yes for every standard stream, so node's own answer is asked.
+bool stderr_is_terminal() {
+#ifdef __EMSCRIPTEN__
+  return EM_ASM_INT({ return typeof require === 'function' && require('tty').isatty($0) ? 1 : 0; }, STDERR_FILENO) != 0;
+#else
+  return isatty(STDERR_FILENO) != 0;
+#endif
+}
+
 Progress terminal_progress() {
-  if (!isatty(STDERR_FILENO)) return Progress();
+  if (!stderr_is_terminal()) return Progress();
   return Progress([last = std::string(), last_pct = -1](std::string_view stage, double f) mutable {
     const int pct = int(f * 100.0 + 0.5);
     if (stage == last && pct == last_pct) return true;
