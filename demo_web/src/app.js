@@ -21,6 +21,9 @@
 //   window.restitchDemo.setSteps([a, b, c])  resolves with {vertices, triangles, steps, ms} once the view shows
 //     that result (rejects with the message when the resize fails, with an Error whose .superseded is true
 //     when a later request replaced it before it ran)
+//   window.restitchDemo.setSize(i, value)  the size field of principal offset i typed: the model resized to that
+//     size (model units) along the world axis the offset runs along, exactly (the nearest whole repeats scaled
+//     about the pivot; the other axes keep the size shown); resolves as setSteps, with the steps it took
 //   window.restitchDemo.resizeTimings (ms per shown resize), .statusHistory, .progressReports,
 //   window.restitchDemo.promoted   the offsets promoted on request (model units; [] for the detected ones)
 //   window.restitchDemo.promote([[x, y, z], ...])  resolves with the new analysis once the sliders follow it
@@ -72,7 +75,8 @@ const session = new Session(client, {
     model: (model) => { showModel(); showOffsets(); view.fitCamera(boxOf(model.info)); view.render(); },
     progress: (stage, fraction) => panel.showProgress(stage, fraction),
     analysis: (analysis) => {
-      panel.buildSliders(analysis, session.state.model, () => resizeTo(currentSteps()).catch(() => {}));
+      panel.buildSliders(analysis, session.state.model, () => resizeTo(currentSteps()).catch(() => {}),
+                         (i, value) => setSize(i, value).catch(() => {}));
       panel.buildCandidates(analysis, session.state.model, session.state.promoted,
                             { promote: (offset) => promoteOffset(offset), detected: () => promote([]).catch(() => {}) });
       hidePeakTip();
@@ -80,7 +84,13 @@ const session = new Session(client, {
       showModel();
       view.render();
     },
-    result: async () => { showModel(); view.followBox(view.boxOf(view.modelGroup)); view.render(); await nextFrame(); },
+    result: async (retarget) => {
+      showModel();
+      panel.showSizes(retarget.result.report.size_out);
+      view.followBox(view.boxOf(view.modelGroup));
+      view.render();
+      await nextFrame();
+    },
     timed: () => panel.showFigures(session.state),
     redraw: () => view.render(),
   },
@@ -130,6 +140,21 @@ function setSteps(steps) {
   settings.steps.v1 = s[0]; settings.steps.v2 = s[1]; settings.steps.v3 = s[2];
   panel.refresh();
   return resizeTo(s);
+}
+
+// A size typed for principal offset i: that size along its world axis, the other axes as shown now.
+function setSize(i, value) {
+  const { analysis, retarget, model } = session.state;
+  if (!analysis) return Promise.reject(new Error('no analysed model yet'));
+  const axis = panel.sizeAxis(i);
+  if (axis === undefined || !(value > 0)) return Promise.reject(new Error('a size is a positive length'));
+  const size = retarget ? retarget.result.report.size_out.slice() : model.info.bbox_max.map((x, k) => x - model.info.bbox_min[k]);
+  size[axis] = value;
+  return session.resize({ size }, settings.labelSpace, settings.pivot, settings.seamEnergy).then((r) => {
+    settings.steps.v1 = r.steps[0]; settings.steps.v2 = r.steps[1]; settings.steps.v3 = r.steps[2];
+    panel.refresh();
+    return r;
+  });
 }
 
 // Promotion: the offsets made principal on request (the session refits the analysis in the worker).
@@ -305,6 +330,7 @@ window.restitchDemo = {
   statusHistory: session.statusHistory,
   resizeTimings: session.resizeTimings,
   setSteps,
+  setSize,
   setView: (name) => {
     settings.view = name;
     panel.refresh();

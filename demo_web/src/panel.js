@@ -2,7 +2,11 @@
 //
 //   const panel = new Panel(settings, { figures, progress, progressLabel, progressFill, error });  // elements
 //   panel.build({ samples, policies }, handlers)   the Model / Analysis / Resize / View folders
-//   panel.buildSliders(analysis, model, onSteps)   one slider per principal offset; onSteps() on every move
+//   panel.buildSliders(analysis, model, onSteps, onSize)   one slider per principal offset; onSteps() on every
+//                                                 move; and one size field per principal offset, the model's size
+//                                                 along the world axis it runs along: onSize(i, value) when one
+//                                                 is typed (a configurator's "make it 1.8 m wide")
+//   panel.showSizes(size)                         the size fields show this box size [x, y, z]
 //   panel.buildCandidates(analysis, model, promoted, { promote(offset), detected() })   the Candidates folder:
 //                                                 one button per candidate repeat, and 'detected offsets'
 //   panel.refresh()                               shows `settings` again after it was changed in code
@@ -83,6 +87,9 @@ export function figureRows({ model: m, analysis: a, retarget: r, shown, analysis
 
 export class Panel {
   #sliders = [];
+  #sizeFields = [];
+  #sizes = { s1: 0, s2: 0, s3: 0 };  // what the size fields show
+  #sizeAxes = [];                    // per principal offset, the world axis its size field is about
   #sliderBase = { extents: [], lengths: [], units: 'm' };  // per principal offset, for the slider names
   #sampleController = null;
   #candidateControls = [];
@@ -123,9 +130,10 @@ export class Panel {
   // Slider i moves along principal offset v_i, the i-th resizable lattice axis (analysis.resizable, in the
   // order of lattice_axes; restitch::lattice_steps_from_principal), from one cell left up to about twice the
   // cells there are.
-  buildSliders(analysis, model, onSteps) {
-    for (const c of this.#sliders) c.destroy();
+  buildSliders(analysis, model, onSteps, onSize = null) {
+    for (const c of [...this.#sliders, ...this.#sizeFields]) c.destroy();
     this.#sliders = [];
+    this.#sizeFields = [];
     const steps = this.settings.steps;
     steps.v1 = steps.v2 = steps.v3 = 0;
     this.#sliderBase = {
@@ -140,7 +148,29 @@ export class Panel {
                                  .onChange(() => { this.#nameSliders(); onSteps(); });
       this.#sliders.push(c);
     });
+    // The size fields: the world axis each principal offset runs along most.
+    this.#sizeAxes = analysis.principal_offsets.map((v) => v.map(Math.abs).indexOf(Math.max(...v.map(Math.abs))));
+    if (onSize) {
+      this.#sizeAxes.forEach((axis, i) => {
+        const c = this.resizeFolder.add(this.#sizes, `s${i + 1}`).name(`v${i + 1} exact size (${'xyz'[axis]}), ${model.units}`)
+                                   .onFinishChange((value) => onSize(i, Number(value)));
+        c.domElement.dataset.size = String(i);
+        c.domElement.title = 'type a size: the nearest whole repeats, scaled about the pivot to this size exactly';
+        this.#sizeFields.push(c);
+      });
+    }
+    this.showSizes(sizeOf(model.info));
     this.#nameSliders();
+  }
+
+  // The world axis the size field of principal offset i is about.
+  sizeAxis(i) {
+    return this.#sizeAxes[i];
+  }
+
+  showSizes(size) {
+    this.#sizeAxes.forEach((axis, i) => { this.#sizes[`s${i + 1}`] = Number(fmt(size[axis], 4)); });
+    for (const c of this.#sizeFields) c.updateDisplay();
   }
 
   // Candidates: repeats the analysis found but does not resize along (a pair, or weaker than a parallel

@@ -6,6 +6,8 @@
 //   await session.start();                     // the catalog: {samples, policies, version}, or null on failure
 //   await session.load({ sample: { name, params } });   // or { file: { name, bytes } }; analyses it too
 //   await session.resize([a, b, c], labelSpace, pivot);  // resolves once hooks.result has shown it (pivot: 'origin' if not given)
+//   await session.resize({ size: [x, y, z] }, labelSpace, pivot);  // the nearest whole repeats to a box size (model
+//                                              units, 0 keeps an axis), scaled about the pivot to that size exactly
 //   await session.promote([[x, y, z], ...]);            // these offsets principal first; [] = the detected ones
 //   session.reanalyze()        the policy changed      session.save() -> .glb bytes (the result, else the input)
 //   session.present() -> mesh  what the view shows     session.fail(message): the error state, from the app
@@ -201,11 +203,13 @@ export class Session {
     await this.#analyze(generation);
   }
 
-  // Asks for the model resized by `steps` along the principal offsets; see the header for the queue.
-  // Resolves with {vertices, triangles, steps, ms} once the view shows it.
+  // Asks for the model resized by `steps` along the principal offsets, or to {size: [x, y, z]} exactly (the
+  // nearest whole repeats scaled about the pivot); see the header for the queue. Resolves with {vertices,
+  // triangles, steps, ms} once the view shows it (steps: the whole repeats along the principal offsets).
   resize(steps, labelSpace, pivot = 'origin', seamEnergy = 'descriptor') {
-    const key = `${steps.join(',')}|${labelSpace}|${pivot}|${seamEnergy}`;
-    const job = { steps: steps.slice(), labelSpace, pivot, seamEnergy, key, t0: this.#now(), waiters: [] };
+    const size = Array.isArray(steps) ? null : steps.size.map(Number);
+    const key = `${size ? `size ${size.join(',')}` : steps.join(',')}|${labelSpace}|${pivot}|${seamEnergy}`;
+    const job = { steps: size ? null : steps.slice(), size, labelSpace, pivot, seamEnergy, key, t0: this.#now(), waiters: [] };
     const promise = new Promise((resolve, reject) => job.waiters.push({ resolve, reject }));
     this.#next = replace(this.#next, job, 'resize');
     this.#pump();
@@ -346,10 +350,11 @@ export class Session {
     this.#inFlight = job;
     const generation = this.#generation;
     try {
-      const msg = await this.#client.request('retarget', { steps: job.steps, labelSpace: job.labelSpace,
+      const msg = await this.#client.request('retarget', { steps: job.steps, size: job.size, labelSpace: job.labelSpace,
                                                            pivot: job.pivot, seamEnergy: job.seamEnergy });
       if (generation !== this.#generation) return;
-      const retarget = { steps: job.steps, labelSpace: job.labelSpace, pivot: job.pivot, seamEnergy: job.seamEnergy,
+      const steps = job.steps || [0, 1, 2].map((i) => msg.result.report.steps_principal[i] || 0);
+      const retarget = { steps, size: job.size, labelSpace: job.labelSpace, pivot: job.pivot, seamEnergy: job.seamEnergy,
                          result: msg.result, mesh: msg.mesh, ms: msg.ms,
                          pageMs: null };
       this.state.retarget = retarget;
@@ -363,7 +368,7 @@ export class Session {
         this.#clearError();
         this.#setStatus('ready');
       }
-      for (const w of job.waiters) w.resolve({ ...this.state.shown, steps: job.steps, ms: retarget.pageMs });
+      for (const w of job.waiters) w.resolve({ ...this.state.shown, steps, ms: retarget.pageMs });
     } catch (e) {
       if (e.cancelled || generation !== this.#generation) return;
       this.fail(`Resize failed: ${e.message}`);

@@ -14,6 +14,9 @@
 //     (model units, at most three: they become the first principal offsets, in order; [] goes back to the
 //     detected ones; later retargets step along the new principal offsets. Refused: analysis unchanged.)
 //   {type: 'retarget', steps: [a, b, c], labelSpace, pivot?}   {type: 'retargeted', steps, result, mesh, ms}
+//   {type: 'retarget', size: [x, y, z], labelSpace, pivot?}    (the same: the nearest whole repeats to that box
+//     size, model units, 0 keeps an axis, scaled about the pivot to it exactly; result.report.steps_principal
+//     says which repeats)
 //   {type: 'save', which: 'result' | 'input'}          {type: 'saved', bytes}
 //   any failure                                        {type: 'error', request, code, message}
 // `analysis` holds the fields of `restitch analyze --json`, `result.report` those
@@ -107,8 +110,9 @@ function handle(restitch, msg) {
     }
     case 'retarget': {
       const t0 = performance.now();
-      const [a, b, c] = msg.steps;
-      const r = session.retarget(a, b, c, msg.labelSpace, msg.pivot || 'origin', msg.seamEnergy || 'descriptor');
+      const pivot = msg.pivot || 'origin', energy = msg.seamEnergy || 'descriptor';
+      const r = msg.size ? session.retargetToSize(msg.size[0], msg.size[1], msg.size[2], true, msg.labelSpace, pivot, energy)
+                         : session.retarget(msg.steps[0], msg.steps[1], msg.steps[2], msg.labelSpace, pivot, energy);
       if (!r.ok) return fail(msg, r);
       const mesh = session.mesh('result');
       post({ type: 'retargeted', id: msg.id, steps: msg.steps, labelSpace: msg.labelSpace, pivot: msg.pivot, result: r, mesh,

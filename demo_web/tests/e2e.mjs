@@ -169,6 +169,29 @@ try {
     return `translation ${p.translation.map((x) => x.toFixed(3)).join(', ')}`;
   });
 
+  await attempt('typing a size in a size field gives that size exactly from the nearest whole repeats; the slider follows', async () => {
+    await page.evaluate(() => window.restitchDemo.setSteps([0, 0, 0]));
+    const a = await page.evaluate(() => window.restitchDemo.analysis);
+    // The field of principal offset 1 is about the world axis v1 runs along; ask for 2.3 repeats more, less 0.3.
+    const v = a.principal_offsets[0], axis = v.map(Math.abs).indexOf(Math.max(...v.map(Math.abs)));
+    const sizeIn = (await page.evaluate(() => window.restitchDemo.report)).size_in[axis], pitch = Math.abs(v[axis]);
+    const want = Number((sizeIn + 2.3 * pitch).toFixed(4));
+    const field = page.locator('[data-size="0"] input');
+    await field.fill(String(want));
+    await field.press('Enter');
+    await page.waitForFunction((w) => { const r = window.restitchDemo.report; return r && r.exact && r.exact.applied; },
+                               want, { timeout: 60000 });
+    const r = await page.evaluate(() => window.restitchDemo.report);
+    assert(Math.abs(r.size_out[axis] - want) < 1e-5 * want, `size ${r.size_out[axis]} for ${want}`);
+    assert(r.steps_principal[0] === 2, `steps_principal ${r.steps_principal} (2 repeats are the nearest)`);
+    assert(Math.abs(r.exact.size_nearest[axis] - (sizeIn + 2 * pitch)) < 1e-4 * want, `nearest ${r.exact.size_nearest[axis]}`);
+    const slider = await page.locator('.lil-gui .lil-controller.lil-number').filter({ hasText: 'v1 steps' }).locator('input').first().inputValue();
+    assert(Number(slider) === 2, `the v1 slider shows ${slider}`);
+    assert(Math.abs(Number(await field.inputValue()) - want) < 1e-3, `the field shows ${await field.inputValue()}`);
+    await page.evaluate(() => window.restitchDemo.setSteps([0, 0, 0]));
+    return `${want} asked along ${'xyz'[axis]}: 2 repeats scaled by ${r.exact.scale[axis].toFixed(4)}`;
+  });
+
   // 5. Download the result and validate it.
   await attempt('download .glb validates', async () => {
     await page.evaluate(() => window.restitchDemo.setSteps([2, 1, 0]));

@@ -215,6 +215,25 @@ test('the seam energy goes to the worker with the steps; another energy is a new
   assert.equal(session.state.retarget.seamEnergy, 'geometry');
 });
 
+test('a size goes to the worker instead of steps; the result says which whole repeats it took; a size and steps are different requests', async () => {
+  const { session, client } = await readySession();
+  const bySize = session.resize({ size: [2.3, 0, 0] }, 'lattice', 'min');
+  const bySteps = session.resize([2, 0, 0], 'lattice', 'min');  // the same repeats, but not the same request
+  const sent = client.sent('retarget')[0].payload;
+  assert.deepEqual(sent.size, [2.3, 0, 0]);
+  assert.equal(sent.steps, null);
+  assert.equal(sent.pivot, 'min');
+  await client.answer('retarget', retargeted([2, 0, 0], 12));
+  const r = await resolved(bySize);
+  assert.deepEqual(r.steps, [2, 0, 0], 'the steps come from the report');
+  assert.deepEqual(session.state.retarget.steps, [2, 0, 0]);
+  assert.deepEqual(session.state.retarget.size, [2.3, 0, 0]);
+  assert.equal(client.sent('retarget').length, 2, 'the steps request is sent after the size one');
+  assert.deepEqual(client.sent('retarget')[1].payload.steps, [2, 0, 0]);
+  await client.answer('retarget', retargeted([2, 0, 0], 12));
+  await resolved(bySteps);
+});
+
 test('a stale load answer is ignored after a newer load, whichever arrives first', async () => {
   for (const staleFirst of [true, false]) {
     const { session, client, named } = makeSession();
