@@ -254,6 +254,31 @@ TEST_CASE("retarget: the bookshelf keeps both side panels; the sheared facade st
   }
 }
 
+// Grown along both principal offsets at once, cells of one label form regions that are no box (an L of
+// cells): a face clipped to the region's boxes is cut on the plane between two of them while the next face
+// of the same copy keeps its edge across it, a T-junction with no seam vertex on its long edge (method.md 3).
+TEST_CASE("retarget: the bookshelf grown or shrunk along both offsets at once opens no edge", "[retarget][samples]") {
+  const Prepared& p = prepared("bookshelf");
+  const int columns = axis_of(p.analysis.lattice, p.sample.generators[0]);
+  const int shelves = axis_of(p.analysis.lattice, p.sample.generators[1]);
+  REQUIRE(columns >= 0);
+  REQUIRE(shelves >= 0);
+  for (const auto& [dc, ds] : {std::pair{1, 1}, std::pair{-1, 1}, std::pair{1, -1}, std::pair{2, 2}}) {
+    INFO(dc << " columns, " << ds << " shelves");
+    Eigen::Array3i steps = Eigen::Array3i::Zero();
+    steps[columns] = dc;
+    steps[shelves] = ds;
+    auto out = retarget(p.sample.mesh, p.analysis, steps);
+    REQUIRE(out.ok());
+    CHECK(out->report.boundary_edges_new() == 0);
+    CHECK(out->report.warnings.empty());
+    auto truth = families::generate("bookshelf", {{"columns", 4 + dc}, {"shelves", 4 + ds}});
+    REQUIRE(truth.ok());
+    const double open = test::open_boundary_length(truth->mesh);
+    CHECK(test::open_boundary_length(out->mesh) <= open + 1e-6 * (1 + open));
+  }
+}
+
 TEST_CASE("retarget: materials, groups and attribute values survive a resize", "[retarget][samples]") {
   const Prepared& p = prepared("bookshelf");
   Eigen::Array3i steps = steps_along(p, 0, 2);

@@ -6,17 +6,23 @@
 // to), so the output would have open edges along the seam.
 //
 // The repair, after welding (corners read through the weld map):
-//   1. Boundary edges: an edge whose two corners are seam vertices (cut
-//      vertices, or copies of input vertices on a cell plane) and which exactly
-//      one face uses. Only faces with two seam corners can have one, so only
-//      their edges are counted.
-//   2. T-vertices: the corners of boundary edges (only those: a vertex that
-//      closes nothing on the other side is not a T-vertex). A boundary edge
-//      a -> b is split at every T-vertex v of the same group, other than a, b
-//      and the face's third corner, that lies strictly inside it within the
-//      weld tolerance: distance from the line <= tol, and more than tol from
-//      a and from b. T-vertices within tol of one another are one split point
-//      (several vertices at one position: a texture seam on the other side).
+//   1. Boundary edges: an edge which exactly one face uses. Every face's
+//      edges are counted: the long side of a T-junction need not touch the
+//      seam. Where copies of one label meet across a cell plane inside a
+//      region that is no box (an L of cells), a face clipped to the region's
+//      boxes is cut on that plane while the next face of the same copy lies
+//      whole in the region, so its edge crosses the plane with no seam
+//      vertex at either end.
+//   2. T-vertices: the seam corners (cut vertices, or copies of input
+//      vertices on a cell plane) of boundary edges; only those: a vertex that
+//      closes nothing on the other side is not a T-vertex, and a T-junction of
+//      the input itself, away from every seam, is left as it was. A boundary
+//      edge a -> b is split at every T-vertex v of the same group, other than
+//      a, b and the face's third corner, that lies strictly inside it within
+//      the weld tolerance: distance from the line <= tol, and more than tol
+//      from a and from b. T-vertices within tol of one another are one split
+//      point (several vertices at one position: a texture seam on the other
+//      side).
 //   3. Each split point gets a new corner with the T-vertex's position exactly
 //      and attributes interpolated along a -> b with the clipping rules
 //      (StitchOutput::interpolated_vertex). It then goes through the weld rule
@@ -38,9 +44,8 @@
 // then sorted by (parameter, vertex id): the result does not depend on the
 // hash order. Deterministic.
 //
-// Cost: O(#output vertices + s) for the s edges of faces with two seam
-// corners (bucketed by their lower corner; each bucket, a vertex's few
-// edges, sorted), plus
+// Cost: O(#output vertices + #output faces) to count the edges (bucketed by
+// their lower corner; each bucket, a vertex's few edges, sorted), plus
 // O(27 (B + total boundary edge length / h)) = O(54 B) expected cell look-ups
 // for B boundary edges, plus O(k log k) per edge for its k candidates, plus
 // O(#faces) to rebuild the face list when something was split.
@@ -76,28 +81,27 @@ std::size_t repair_t_junctions(StitchOutput& o, const Mesh& in, const ClipStitch
     for (int k = 0; k < 3; ++k) c[k] = rep_of[r[k]];
     return c[0] != c[1] && c[1] != c[2] && c[2] != c[0];
   };
-  // 1. Edges of faces with two seam corners, bucketed by their lower corner (a counting sort), each
-  //    bucket (a vertex's few edges) sorted by (upper corner, face * 3 + edge); an upper corner that
-  //    occurs once in its bucket is a boundary edge.
+  // 1. Every face's edges, bucketed by their lower corner (a counting sort), each bucket (a vertex's few
+  //    edges) sorted by (upper corner, face * 3 + edge); an upper corner that occurs once in its bucket is
+  //    a boundary edge.
   const std::size_t nv0 = o.vertex_count();
-  auto each_seam_edge = [&](auto&& visit) {
+  auto each_edge = [&](auto&& visit) {
     for (std::size_t f = 0; f < nf; ++f) {
       std::uint32_t c[3];
       if (!corners(f, c)) continue;
-      const bool s[3] = {seam(c[0]), seam(c[1]), seam(c[2])};
       for (int k = 0; k < 3; ++k) {
         const int n = (k + 1) % 3;
-        if (s[k] && s[n]) visit(std::min(c[k], c[n]), std::max(c[k], c[n]), 3 * std::uint64_t(f) + std::uint64_t(k));
+        visit(std::min(c[k], c[n]), std::max(c[k], c[n]), 3 * std::uint64_t(f) + std::uint64_t(k));
       }
     }
   };
   std::vector<std::uint32_t> bucket(nv0 + 1, 0);
-  each_seam_edge([&](std::uint32_t a, std::uint32_t, std::uint64_t) { ++bucket[a + 1]; });
+  each_edge([&](std::uint32_t a, std::uint32_t, std::uint64_t) { ++bucket[a + 1]; });
   for (std::size_t v = 0; v < nv0; ++v) bucket[v + 1] += bucket[v];
   std::vector<std::pair<std::uint32_t, std::uint64_t>> uses(bucket[nv0]);  // (upper corner, face * 3 + edge)
   {
     std::vector<std::uint32_t> fill(bucket.begin(), bucket.end() - 1);
-    each_seam_edge([&](std::uint32_t a, std::uint32_t b, std::uint64_t at) { uses[fill[a]++] = {b, at}; });
+    each_edge([&](std::uint32_t a, std::uint32_t b, std::uint64_t at) { uses[fill[a]++] = {b, at}; });
   }
   std::vector<std::uint64_t> open;  // face * 3 + edge, ascending
   for (std::size_t v = 0; v < nv0; ++v) {
@@ -114,7 +118,7 @@ std::size_t repair_t_junctions(StitchOutput& o, const Mesh& in, const ClipStitch
   if (open.empty()) return 0;
   std::sort(open.begin(), open.end());
 
-  // 2. T-vertices: the corners of boundary edges, in a hash grid.
+  // 2. T-vertices: the seam corners of boundary edges, in a hash grid.
   auto pos = [&](std::uint32_t v) {
     float p[3] = {0, 0, 0};  // filled by position()
     o.position(v, p);
@@ -126,10 +130,11 @@ std::size_t repair_t_junctions(StitchOutput& o, const Mesh& in, const ClipStitch
     std::uint32_t c[3];
     corners(std::size_t(e / 3), c);
     const int k = int(e % 3);
-    tv.push_back(c[k]);
-    tv.push_back(c[(k + 1) % 3]);
+    for (const std::uint32_t v : {c[k], c[(k + 1) % 3]})
+      if (seam(v)) tv.push_back(v);
     total_length += (pos(c[k]) - pos(c[(k + 1) % 3])).norm();
   }
+  if (tv.empty()) return 0;
   std::sort(tv.begin(), tv.end());
   tv.erase(std::unique(tv.begin(), tv.end()), tv.end());
   const double h = std::max(total_length / double(open.size()), 2.0 * tol);
