@@ -84,6 +84,7 @@
 #include "restitch/io/gltf.hpp"
 #include "restitch/io/json_report.hpp"
 #include "restitch/mesh.hpp"
+#include "restitch/mesh_arrays.hpp"
 #include "restitch/retarget.hpp"
 #include "restitch/runtime.hpp"
 #include "restitch/families/families.hpp"
@@ -149,7 +150,6 @@ class Session {
   val load_arrays(val arrays) {
     Result<Mesh> m = mesh_from_arrays(arrays);
     if (!m) return status_object(m.status());
-    if (Status s = validate(*m); !s) return status_object(s);
     return adopt(std::move(*m), {});
   }
 
@@ -534,109 +534,43 @@ class Session {
     return emscripten::convertJSArrayToNumberVector<T>(v);
   }
 
+  // The JavaScript arrays as restitch::MeshArrays (restitch/mesh_arrays.hpp checks and builds the mesh).
   static Result<Mesh> mesh_from_arrays(const val& arrays) {
     if (arrays.typeOf().as<std::string>() != "object" || arrays.isNull())
       return error(StatusCode::invalid_argument, "give the mesh as {positions, indices, ...}");
-    Result<std::vector<float>> pos_r = numbers<float>(arrays, "positions", true);
-    Result<std::vector<std::uint32_t>> idx_r = numbers<std::uint32_t>(arrays, "indices", true);
-    Result<std::vector<float>> nrm_r = numbers<float>(arrays, "normals", false);
-    Result<std::vector<float>> col_r = numbers<float>(arrays, "colors", false);
-    for (const Status& s : {pos_r.status(), idx_r.status(), nrm_r.status(), col_r.status()})
+    MeshArrays a;
+    Result<std::vector<float>> pos = numbers<float>(arrays, "positions", true), nrm = numbers<float>(arrays, "normals", false),
+                               col = numbers<float>(arrays, "colors", false);
+    Result<std::vector<std::uint32_t>> idx = numbers<std::uint32_t>(arrays, "indices", true);
+    for (const Status& s : {pos.status(), idx.status(), nrm.status(), col.status()})
       if (!s) return s;
-    const std::vector<float>& pos = *pos_r;
-    const std::vector<std::uint32_t>& idx = *idx_r;
-    const std::vector<float>& nrm = *nrm_r;
-    const std::vector<float>& col = *col_r;
-    const std::size_t nv = pos.size() / 3;
+    a.positions = std::move(*pos);
+    a.indices = std::move(*idx);
+    a.normals = std::move(*nrm);
+    a.colors = std::move(*col);
     auto bad = [](const std::string& what) { return error(StatusCode::invalid_argument, what); };
-    if (pos.size() % 3) return bad("positions: the length is not a multiple of 3");
-    if (idx.empty() || idx.size() % 3) return bad("indices: the length is not a positive multiple of 3");
-    if (!nrm.empty() && nrm.size() != 3 * nv) return bad("normals: not 3 numbers per vertex");
-    if (!col.empty() && col.size() != 4 * nv) return bad("colors: not 4 numbers (RGBA) per vertex");
-    for (std::uint32_t i : idx)
-      if (i >= nv) return bad("indices: index " + std::to_string(i) + " is past the last vertex");
-    std::vector<std::vector<float>> uvs;
     const val uv_list = arrays["uvs"];
     if (!uv_list.isUndefined() && !uv_list.isNull()) {
       if (!val::global("Array").call<bool>("isArray", uv_list)) return bad("uvs: an array of Float32Array, one per set");
-      const int n = uv_list["length"].as<int>();
-      if (std::size_t(n) > max_uv_sets) return bad("uvs: at most " + std::to_string(max_uv_sets) + " sets");
-      for (int k = 0; k < n; ++k) {
-        uvs.push_back(emscripten::convertJSArrayToNumberVector<float>(uv_list[k]));
-        if (uvs.back().size() != 2 * nv) return bad("uvs[" + std::to_string(k) + "]: not 2 numbers per vertex");
-      }
+      for (int k = 0, n = uv_list["length"].as<int>(); k < n; ++k)
+        a.uvs.push_back(emscripten::convertJSArrayToNumberVector<float>(uv_list[k]));
     }
-    // The groups: ranges of indices, in order, covering them.
-    struct Range { std::size_t start, count; int material; std::string name; };
-    std::vector<Range> ranges;
     const val groups = arrays["groups"];
-    if (groups.isUndefined() || groups.isNull()) {
-      ranges.push_back({0, idx.size(), -1, "arrays"});
-    } else {
+    if (!groups.isUndefined() && !groups.isNull()) {
       if (!val::global("Array").call<bool>("isArray", groups)) return bad("groups: an array of {start, count}");
-      std::size_t next = 0;
       for (int g = 0, n = groups["length"].as<int>(); g < n; ++g) {
         const val o = groups[g];
         const std::string at = "groups[" + std::to_string(g) + "]";
         if (o.typeOf().as<std::string>() != "object" || !o["start"].isNumber() || !o["count"].isNumber())
           return bad(at + ": not {start, count}");
         const double start = o["start"].as<double>(), count = o["count"].as<double>();
-        if (start != double(next) || count < 0 || std::fmod(count, 3.0) != 0 || start + count > double(idx.size()))
-          return bad(at + ": groups must follow each other from index 0, each a multiple of 3 indices long");
-        const int material = o["material"].isNumber() ? o["material"].as<int>() : -1;
-        if (material < -1) return bad(at + ": material must be -1 (none) or an index");
-        ranges.push_back({next, std::size_t(count), material,
-                          o["name"].isString() ? o["name"].as<std::string>() : "group " + std::to_string(g)});
-        next += std::size_t(count);
+        if (!(start >= 0 && count >= 0 && start == std::floor(start) && count == std::floor(count)))
+          return bad(at + ": start and count are whole numbers");
+        a.groups.push_back({std::size_t(start), std::size_t(count), o["material"].isNumber() ? o["material"].as<int>() : -1,
+                            o["name"].isString() ? o["name"].as<std::string>() : ""});
       }
-      if (next != idx.size()) return bad("groups: they cover " + std::to_string(next) + " of " +
-                                         std::to_string(idx.size()) + " indices");
     }
-    Mesh m;
-    int materials = 0;
-    for (const Range& r : ranges) materials = std::max(materials, r.material + 1);
-    for (int k = 0; k < materials; ++k) m.materials.push_back(Material{"material " + std::to_string(k)});
-    // Each group gets its own copy of the vertices it uses.
-    std::vector<std::uint32_t> source;  // new vertex -> given vertex
-    std::vector<std::uint32_t> faces;
-    std::vector<std::uint32_t> face_group;
-    std::vector<std::int64_t> local(nv, -1);
-    for (std::size_t g = 0; g < ranges.size(); ++g) {
-      const Range& r = ranges[g];
-      std::fill(local.begin(), local.end(), -1);
-      for (std::size_t q = r.start; q < r.start + r.count; ++q) {
-        const std::uint32_t v = idx[q];
-        if (local[v] < 0) {
-          local[v] = std::int64_t(source.size());
-          source.push_back(v);
-        }
-        faces.push_back(std::uint32_t(local[v]));
-        if ((q - r.start) % 3 == 2) face_group.push_back(std::uint32_t(g));
-      }
-      Group group;
-      group.material = r.material;
-      group.name = r.name;
-      group.attributes.normals = !nrm.empty();
-      group.attributes.uv_sets = int(uvs.size());
-      group.attributes.color_components = col.empty() ? 0 : 4;
-      m.groups.push_back(group);
-    }
-    const Eigen::Index n = Eigen::Index(source.size());
-    m.V.resize(n, 3);
-    if (!nrm.empty()) m.N.resize(n, 3);
-    if (!col.empty()) m.C.resize(n, 4);
-    m.UV.assign(uvs.size(), MatrixX2f(n, 2));
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const std::size_t s = source[std::size_t(i)];
-      for (int k = 0; k < 3; ++k) m.V(i, k) = pos[3 * s + std::size_t(k)];
-      for (int k = 0; k < 3 && !nrm.empty(); ++k) m.N(i, k) = nrm[3 * s + std::size_t(k)];
-      for (int k = 0; k < 4 && !col.empty(); ++k) m.C(i, k) = col[4 * s + std::size_t(k)];
-      for (std::size_t u = 0; u < uvs.size(); ++u)
-        for (int k = 0; k < 2; ++k) m.UV[u](i, k) = uvs[u][2 * s + std::size_t(k)];
-    }
-    m.F = Eigen::Map<const MatrixX3u>(faces.data(), Eigen::Index(faces.size() / 3), 3);
-    m.FG = Eigen::Map<const VectorXu>(face_group.data(), Eigen::Index(face_group.size()));
-    return m;
+    return restitch::mesh_from_arrays(a);
   }
 
   std::unique_ptr<Mesh> input_;

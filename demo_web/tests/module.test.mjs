@@ -668,12 +668,12 @@ test('prepare builds the first resize\'s retargeter and warms it: same result by
 });
 
 test('the result check names what is wrong and gives the open edges to draw red', () => {
-  // The paper's regular labels on a connector cut its walls where nothing continues them.
+  // The paper's regular labels on the fence cut its rails where nothing continues them.
   const c = new restitch.Session();
   try {
-    assert.equal(c.loadSample('connector', { pins: 5 }).ok, true);
-    assert.equal(c.analyze('shot', 'reduced', () => {}).ok, true);
-    const r = c.retarget(2, 0, 0, 'regular');
+    assert.equal(c.loadSample('fence', {}).ok, true);
+    assert.equal(c.analyze('shot', 'brute_force', () => {}).ok, true);
+    const r = c.retarget(1, 0, 0, 'regular');
     assert.equal(r.ok, true, r.message);
     assert.equal(r.report.checked, true);
     assert.ok(r.report.warnings.some((w) => w.check === 'open seam' && /open where the input is closed/.test(w.message)));

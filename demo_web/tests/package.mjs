@@ -7,8 +7,9 @@
 //   - TypeScript: a consumer that uses every export type-checks (`tsc --noEmit`), and one that misuses them
 //     does not;
 //   - three.js in Chromium: a loaded glTF scene resized by restitch/three has the size and triangle count the
-//     tool reports, its materials (the same objects) and UV sets; prints the milliseconds per slider move.
-// Native tool: RESTITCH_NATIVE, else build/native/restitch or build/dev/restitch. Build folder of the
+//     tool reports, its materials (the same objects) and UV sets, and per material the tool's area, centroid
+//     and mean UVs; prints the milliseconds per slider move. The API in a module worker.
+// Native tool: RESTITCH_CLI, else build/native/restitch or build/dev/restitch. Build folder of the
 // WebAssembly files: RESTITCH_WEB_BUILD (as scripts/pack-npm.sh). Ends with "package: N passed, M failed".
 // Usage: node demo_web/tests/package.mjs   (exit code 1 on any failure)
 import fs from 'node:fs';
@@ -42,7 +43,7 @@ function run(cmd, args, options = {}) {
   return r;
 }
 
-const native = [process.env.RESTITCH_NATIVE, path.join(root, 'build/native/restitch'), path.join(root, 'build/dev/restitch')]
+const native = [process.env.RESTITCH_CLI, path.join(root, 'build/native/restitch'), path.join(root, 'build/dev/restitch')]
   .find((p) => p && fs.existsSync(p));
 const work = fs.mkdtempSync(path.join(os.tmpdir(), 'restitch-npm-'));
 const consumer = path.join(work, 'consumer');
@@ -155,7 +156,7 @@ try {
     assert(!fs.existsSync(path.join(consumer, 'x.glb')), 'a file was written for a missing input');
   });
   await attempt('npx restitch gives the native tool\'s bytes (--threads 1) on every sample and shared model', () => {
-    assert(native, 'no native restitch tool: build it (build/native) or set RESTITCH_NATIVE');
+    assert(native, 'no native restitch tool: build it (build/native) or set RESTITCH_CLI');
     const wrap = (name, cmd) => {
       const file = path.join(work, name);
       fs.writeFileSync(file, `#!/bin/sh\ncase "$1" in analyze|resize) exec ${cmd} "$@" --threads 1;; *) exec ${cmd} "$@";; esac\n`);
@@ -370,6 +371,25 @@ document.body.dataset.ready = '1';
       return `${got.triangles} triangles, ${got.msPerMove.toFixed(1)} ms per slider move`;
     });
   }
+  await attempt('the API runs in a module worker too (resize of the fence sample, answered by postMessage)', async () => {
+    fs.writeFileSync(path.join(consumer, 'worker.mjs'), `
+import { init } from './node_modules/restitch/index.js';  // import maps do not reach workers: a path
+const restitch = await init();
+const model = restitch.sample('fence');
+model.analyze();
+const result = model.resize({ steps: [1] });
+postMessage({ triangles: result.report.output.triangles, glb: result.glb().length });
+model.delete();`);
+    const got = await page.evaluate(() => new Promise((resolve, reject) => {
+      const w = new Worker('./worker.mjs', { type: 'module' });
+      w.onmessage = (e) => { resolve(e.data); w.terminate(); };
+      w.onerror = (e) => reject(new Error(e.message || 'worker error'));
+    }));
+    runOk(bin, ['resize', path.join(consumer, 'in', 'fence.glb'), '-o', path.join(work, 'fence1.glb'), '--steps', '1', '--json', path.join(work, 'fence1.json')]);
+    const cli = JSON.parse(fs.readFileSync(path.join(work, 'fence1.json'), 'utf8'));
+    assert(got.triangles === cli.output.triangles && got.glb === fs.statSync(path.join(work, 'fence1.glb')).size,
+           `worker: ${JSON.stringify(got)}, tool: ${cli.output.triangles} triangles`);
+  });
   await attempt('restitch/three resizes a bare BufferGeometry in place and restores it', async () => {
     const got = await page.evaluate(() => window.geometryCase('in/fence.glb'));
     assert(got.grown > got.count && got.grown === got.reportTriangles * 3, JSON.stringify(got));

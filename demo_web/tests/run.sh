@@ -2,7 +2,7 @@
 # The web demo's tests: builds the WebAssembly module when missing or stale (build/web, Emscripten),
 # runs the node tests (node --test: the module, and the page's state machine and worker client against
 # fakes), the end-to-end test of the page in Debian's Chromium (playwright-core) and the npm package's test
-# (tests/package.mjs: packed, installed elsewhere, compared with the native tool: RESTITCH_NATIVE or
+# (tests/package.mjs: packed, installed elsewhere, compared with the native tool: RESTITCH_CLI or
 # build/native/restitch), and ends with one line "N passed, M failed" over all checks.
 # Exits non-zero on any failure. Called by scripts/test.sh; runs alone too.
 set -uo pipefail
