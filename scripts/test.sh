@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every restitch test on a fresh Debian 12 machine (installs what is missing):
-#   1. native build, all tests (unit, command line + glTF-Validator, install consumer)
+#   1. native build, all tests (unit, command line + glTF-Validator, install consumer, the Python module with
+#      pytest, the Blender add-on in headless Blender)
 #   2. the same tests under AddressSanitizer + UndefinedBehaviorSanitizer, then a 20 s fuzz smoke per
 #      libFuzzer target (scripts/fuzz.sh)
 #   3. the Emscripten build of the tests, run under node
@@ -40,7 +41,8 @@ build() {  # build DIR "TARGETS" [cmake args...]   (TARGETS "" = all)
 }
 
 stage "native build and tests"
-build build/native "" -DCMAKE_BUILD_TYPE=Release && run_ctest build/native
+build build/native "" -DCMAKE_BUILD_TYPE=Release -DRESTITCH_BUILD_PYTHON=ON -DPython3_EXECUTABLE=/usr/bin/python3 &&
+  run_ctest build/native
 
 stage "AddressSanitizer + UndefinedBehaviorSanitizer"
 build build/sanitize "restitch_tests restitch_cli" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1" \
@@ -67,7 +69,7 @@ fi
 if [ -f "$root/demo_web/tests/run.sh" ]; then
   stage "web demo: node and browser tests"
   log=build/web-tests.log
-  RESTITCH_WEB_BUILD="$root/build/wasm" RESTITCH_NATIVE="$root/build/native/restitch" bash "$root/demo_web/tests/run.sh" 2>&1 | tee "$log"
+  RESTITCH_WEB_BUILD="$root/build/wasm" RESTITCH_CLI="$root/build/native/restitch" bash "$root/demo_web/tests/run.sh" 2>&1 | tee "$log"
   line=$(grep -E "^[0-9]+ passed, [0-9]+ failed" "$log" | tail -1)
   if [ -z "$line" ]; then broken=$((broken + 1)); else
     passed=$((passed + $(echo "$line" | cut -d' ' -f1))); failed=$((failed + $(echo "$line" | cut -d' ' -f3 | tr -d ,)))
