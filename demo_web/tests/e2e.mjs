@@ -12,6 +12,7 @@ import path from 'node:path';
 import { createRequire } from 'node:module';
 import { fileURLToPath } from 'node:url';
 import { serve, launch } from './browser.mjs';
+import { assert, attempt, check, finish } from './checks.mjs';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const demo = path.resolve(here, '..');
@@ -20,20 +21,6 @@ const validator = require('gltf-validator');
 const modelsDir = path.resolve(demo, '../../shared/models');
 const realModel = path.join(modelsDir, 'scopia_japanese_style_screen.glb');
 
-let passed = 0, failed = 0;
-function check(name, ok, detail = '') {
-  if (ok) passed++; else failed++;
-  console.log(`${ok ? 'ok' : 'not ok'} - ${name}${detail ? ` (${detail})` : ''}`);
-}
-async function attempt(name, fn) {
-  try {
-    const detail = await fn();
-    check(name, true, typeof detail === 'string' ? detail : '');
-  } catch (e) {
-    check(name, false, e && e.message ? e.message.split('\n')[0] : String(e));
-  }
-}
-function assert(cond, message) { if (!cond) throw new Error(message); }
 
 const server = await serve(demo);
 const base = server.base;
@@ -503,5 +490,4 @@ try {
   server.close();
   fs.rmSync(userDataDir, { recursive: true, force: true });
 }
-console.log(`e2e: ${passed} passed, ${failed} failed`);
-process.exit(failed ? 1 : 0);
+finish('e2e');

@@ -18,25 +18,13 @@ import path from 'node:path';
 import { spawnSync } from 'node:child_process';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 import { serve, launch } from './browser.mjs';
+import { assert, attempt as attemptLines, check, finish } from './checks.mjs';
 import { pack, install, root, runOk } from './consumer.mjs';
 
 const demo = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 const modelsDir = path.resolve(root, '../shared/models');
+const attempt = (name, fn) => attemptLines(name, fn, 3);  // a failure's first three lines
 
-let passed = 0, failed = 0;
-function check(name, ok, detail = '') {
-  if (ok) passed++; else failed++;
-  console.log(`${ok ? 'ok' : 'not ok'} - ${name}${detail ? ` (${detail})` : ''}`);
-}
-async function attempt(name, fn) {
-  try {
-    const detail = await fn();
-    check(name, true, typeof detail === 'string' ? detail : '');
-  } catch (e) {
-    check(name, false, e && e.message ? e.message.split('\n').slice(0, 3).join(' | ') : String(e));
-  }
-}
-function assert(cond, message) { if (!cond) throw new Error(message); }
 function run(cmd, args, options = {}) {
   const r = spawnSync(cmd, args, { encoding: 'buffer', maxBuffer: 1 << 28, ...options });
   if (r.error) throw r.error;
@@ -404,5 +392,4 @@ model.delete();`);
   if (server) server.close();
   fs.rmSync(work, { recursive: true, force: true });
 }
-console.log(`package: ${passed} passed, ${failed} failed`);
-process.exit(failed ? 1 : 0);
+finish('package');
