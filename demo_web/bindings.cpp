@@ -238,43 +238,26 @@ class Session {
 
   val retarget_with(int s1, int s2, int s3, const std::string& label_space, const std::string& pivot,
                     const std::string& seam_energy) {
-    Result<SeamEnergy> energy = seam_energy_named(seam_energy);
-    if (!energy) return status_object(energy.status());
-    Result<Pivots> pivots = parse_pivots(pivot);
-    if (!pivots) return status_object(pivots.status());
-    if (!input_ || !analysis_)
-      return status_object(error(StatusCode::invalid_argument, "analyse the model before resizing it"));
-    if (std::max({std::abs(s1), std::abs(s2), std::abs(s3)}) > max_steps)
-      return status_object(
-          error(StatusCode::too_large, "the demo allows at most " + std::to_string(max_steps) + " steps per axis"));
-    Result<Eigen::Array3i> steps = lattice_steps_from_principal(*analysis_, {s1, s2, s3});
-    if (!steps) return status_object(steps.status());
-    if (Status s = ensure_retargeter(label_space, *energy); !s) return status_object(s);
-    retargeter_->set_pivot(*pivots);
-    Result<RetargetResult> r = retargeter_->retarget(*steps);
-    if (!r) return status_object(r.status());
-    result_ = std::make_unique<RetargetResult>(std::move(*r));
-    return retarget_answer(*result_, *analysis_, label_space);
+    const std::vector<int> principal{s1, s2, s3};
+    return resize_with(
+        label_space, pivot, seam_energy,
+        [&]() -> Status {
+          if (std::max({std::abs(s1), std::abs(s2), std::abs(s3)}) > max_steps)
+            return error(StatusCode::too_large,
+                         "the demo allows at most " + std::to_string(max_steps) + " steps per axis");
+          return lattice_steps_from_principal(*analysis_, principal).status();
+        },
+        [&](AnyRetargeter& r) { return r.retarget(*lattice_steps_from_principal(*analysis_, principal)); });
   }
 
   // Resize to a bounding-box size (model units; 0 keeps an axis): the nearest whole repeats, and with `exact`
   // a scale about the pivot to the size asked (Retargeter::retarget_to_size). The same answer as retarget.
   val retarget_to_size(double x, double y, double z, bool exact, const std::string& label_space,
                        const std::string& pivot, const std::string& seam_energy) {
-    Result<SeamEnergy> energy = seam_energy_named(seam_energy);
-    if (!energy) return status_object(energy.status());
-    Result<Pivots> pivots = parse_pivots(pivot);
-    if (!pivots) return status_object(pivots.status());
-    if (!input_ || !analysis_)
-      return status_object(error(StatusCode::invalid_argument, "analyse the model before resizing it"));
     const Eigen::Vector3d size(x, y, z);
-    if (Status s = check_size_values(size); !s) return status_object(s);
-    if (Status s = ensure_retargeter(label_space, *energy); !s) return status_object(s);
-    retargeter_->set_pivot(*pivots);
-    Result<RetargetResult> r = retargeter_->retarget_to_size(size, exact);
-    if (!r) return status_object(r.status());
-    result_ = std::make_unique<RetargetResult>(std::move(*r));
-    return retarget_answer(*result_, *analysis_, label_space);
+    return resize_with(
+        label_space, pivot, seam_energy, [&] { return check_size_values(size); },
+        [&](AnyRetargeter& r) { return r.retarget_to_size(size, exact); });
   }
 
   // Builds the retargeter the next resize with these policies needs (grid, cell descriptors, slabs, the
@@ -332,6 +315,27 @@ class Session {
 
  private:
   static constexpr int max_steps = 64;
+
+  // What every resize does: the policies and pivot by name, `check()` (the request against the analysis)
+  // before anything is built, the retargeter for these policies about the pivot, `run(retargeter)`, and the
+  // result kept and answered. A refused request changes nothing.
+  template <class Check, class Run>
+  val resize_with(const std::string& label_space, const std::string& pivot, const std::string& seam_energy,
+                  Check&& check, Run&& run) {
+    Result<SeamEnergy> energy = seam_energy_named(seam_energy);
+    if (!energy) return status_object(energy.status());
+    Result<Pivots> pivots = parse_pivots(pivot);
+    if (!pivots) return status_object(pivots.status());
+    if (!input_ || !analysis_)
+      return status_object(error(StatusCode::invalid_argument, "analyse the model before resizing it"));
+    if (Status s = check(); !s) return status_object(s);
+    if (Status s = ensure_retargeter(label_space, *energy); !s) return status_object(s);
+    retargeter_->set_pivot(*pivots);
+    Result<RetargetResult> r = run(*retargeter_);
+    if (!r) return status_object(r.status());
+    result_ = std::make_unique<RetargetResult>(std::move(*r));
+    return retarget_answer(*result_, *analysis_, label_space);
+  }
 
   // The retargeter for these policies, built unless it is the current one. Built aside: an unknown name or
   // a grid too large keeps the current one usable.

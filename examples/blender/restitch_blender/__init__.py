@@ -133,8 +133,12 @@ def analyse(obj, shift=None):
     original = _original(obj)
     mesh, layers = mesh_to_restitch(original, shift)
     analysis = rs.analyze(mesh)
-    entry = {"mesh": mesh, "layers": layers, "analysis": analysis, "retargeter": None, "warnings": [],
-             "report": None}
+    base = _cache.get(_key(original)) if shift is not None else None
+    promoted = base["promoted"] if base else []
+    if promoted:  # the cursor pivot's analysis follows the panel's promotions
+        analysis = analysis.promote(promoted)
+    entry = {"mesh": mesh, "layers": layers, "analysis": analysis, "promoted": promoted, "retargeter": None,
+             "warnings": [], "report": None}
     _cache[_key(original, shift)] = entry
     return entry
 
@@ -286,11 +290,16 @@ class OBJECT_OT_restitch_promote(RestitchOperator, bpy.types.Operator):
         candidates = entry["analysis"].candidates
         if self.index >= len(candidates):
             return self.fail(f"there are {len(candidates)} candidates")
+        offset = tuple(candidates[self.index]["offset"])
         try:
-            entry["analysis"] = entry["analysis"].promote([tuple(candidates[self.index]["offset"])])
+            entry["analysis"] = entry["analysis"].promote([offset])
         except rs.Error as e:
             return self.fail(e)
+        entry["promoted"] = [offset]
         entry["retargeter"] = None
+        original = _original(context.active_object)
+        for key in [k for k in _cache if k[:2] == _key(original)[:2] and k[2] is not None]:
+            del _cache[key]  # cursor-pivot analyses: made again with the promotion
         return {"FINISHED"}
 
 
