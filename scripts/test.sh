@@ -29,7 +29,10 @@ run_ctest() {
   t=$(echo "$line" | sed -E 's/.* ([0-9]+) tests failed out of ([0-9]+).*/\2/')
   passed=$((passed + t - f)); failed=$((failed + f))
 }
-stage() { echo; echo "=== restitch: $* ==="; }
+# Each stage's wall time, printed at the end (where a CI run's time goes).
+times=""; stage_name=""; stage_start=$SECONDS
+end_stage() { [ -z "$stage_name" ] || times+="  $((SECONDS - stage_start)) s  $stage_name"$'\n'; }
+stage() { end_stage; stage_name="$1"; stage_start=$SECONDS; echo; echo "=== restitch: $* ==="; }
 build() {  # build DIR "TARGETS" [cmake args...]   (TARGETS "" = all)
   local dir="$1" targets="$2"; shift 2
   local t=(); [ -n "$targets" ] && t=(--target $targets)
@@ -76,7 +79,9 @@ if [ -f "$root/demo_web/tests/run.sh" ]; then
   fi
 fi
 
+end_stage
 echo
+echo "wall time per stage (total $SECONDS s):"; printf '%s' "$times"
 [ "$broken" -eq 0 ] || echo "restitch: $broken stage(s) did not build or run"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ] && [ "$broken" -eq 0 ]

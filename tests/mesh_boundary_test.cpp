@@ -2,6 +2,7 @@
 // for the stitcher's T-junction repair (restitch/stitch/detail/tjunction.hpp).
 #include "restitch/mesh_boundary.hpp"
 
+#include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
 #include <cstring>
@@ -106,6 +107,38 @@ Mesh t_bar() {
   return s.mesh();
 }
 
+// t_bar with two materials on cell 1's +z face, fanned from its centre c = (1.5, 0.5, 1): the triangle
+// on the x = 1 end in material 0, the four that reach the x = 2 end (and its split point) in material 1.
+// The T-junction the stitch makes at x = 2 then has its long edge in material 0 and its T-vertex in
+// material 1 only.
+Mesh t_bar_two_materials() {
+  Mesh plain = t_bar();
+  Soup s;
+  using V = Eigen::Vector3d;
+  std::vector<std::uint8_t> material;
+  const V c(1.5, 0.5, 1);
+  for (Eigen::Index f = 0; f < plain.F.rows(); ++f) {
+    V p[3];
+    for (int k = 0; k < 3; ++k) p[k] = plain.V.row(plain.F(f, k)).cast<double>().transpose();
+    const bool cell1_top = p[0].z() == 1 && p[1].z() == 1 && p[2].z() == 1 &&
+                           std::min({p[0].x(), p[1].x(), p[2].x()}) == 1 && std::max({p[0].x(), p[1].x(), p[2].x()}) == 2;
+    if (cell1_top) continue;
+    s.triangle(p[0], p[1], p[2]);
+    material.push_back(0);
+  }
+  s.triangle(V(1, 0, 1), c, V(1, 1, 1));  // counter-clockwise seen from +z, as the face it replaces
+  material.push_back(0);
+  for (const auto& [a, b] : {std::pair<V, V>{V(1, 0, 1), V(2, 0, 1)}, {V(2, 0, 1), V(2, 0.5, 1)},
+                             {V(2, 0.5, 1), V(2, 1, 1)}, {V(2, 1, 1), V(1, 1, 1)}}) {
+    s.triangle(a, b, c);
+    material.push_back(1);
+  }
+  Mesh m = s.mesh();
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) m.FG(f) = material[std::size_t(f)];
+  m.groups.push_back(m.groups[0]);
+  return m;
+}
+
 restitch::Lattice lattice_x3() {
   restitch::Lattice l;
   l.A = Eigen::Matrix3d::Identity();
@@ -206,4 +239,34 @@ TEST_CASE("stitch: a T-vertex whose attributes differ gets its own vertex (textu
   CHECK(restitch::boundary_edge_count(out) == 0);  // closed geometrically
   CHECK(rep.t_junction_edges_split == 1);
   CHECK(out.vertex_count() == out_plain.vertex_count() + 1);  // but the new corner stays its own vertex
+}
+
+TEST_CASE("stitch: a T-vertex of another material closes the edge it lies on", "[stitch]") {
+  // Where two materials meet, the input's faces share positions, not vertices: the only vertex that can
+  // close the long edge is the other material's. The new corner gets the long edge's material (its own
+  // vertex: vertices of two materials are never welded).
+  const Mesh in = t_bar_two_materials();
+  REQUIRE(restitch::boundary_edge_count(in) == 0);
+  const std::vector<Eigen::Array3i> labels = {{0, 0, 0}, {0, 0, 0}, {1, 0, 0}, {1, 0, 0}};
+  restitch::ClipStitcher with, without;
+  without.repair_t_junctions = false;
+  without.zip_seams = false;
+  Mesh out, out_plain;
+  restitch::StitchReport rep, rep_plain;
+  REQUIRE(without.stitch(in, lattice_x3(), {4, 1, 1}, labels, out_plain, rep_plain).ok());
+  REQUIRE(with.stitch(in, lattice_x3(), {4, 1, 1}, labels, out, rep).ok());
+  CHECK(restitch::boundary_edge_count(out_plain) == 3);
+  CHECK(restitch::boundary_edge_count(out) == 0);
+  CHECK(rep.t_junction_edges_split == 1);
+  CHECK(out.vertex_count() == out_plain.vertex_count() + 1);
+  CHECK(restitch::validate(out).ok());
+  // The fanned face keeps material 0: each material's area is what it was.
+  for (std::uint32_t g = 0; g < 2; ++g) {
+    double a0 = 0, a1 = 0;
+    for (Eigen::Index f = 0; f < out.F.rows(); ++f)
+      if (out.FG(f) == g) a1 += restitch::double_area(out, f);
+    for (Eigen::Index f = 0; f < out_plain.F.rows(); ++f)
+      if (out_plain.FG(f) == g) a0 += restitch::double_area(out_plain, f);
+    CHECK(a1 == Approx(a0).epsilon(1e-9));
+  }
 }

@@ -17,10 +17,13 @@
 //      vertices on a cell plane) of boundary edges; only those: a vertex that
 //      closes nothing on the other side is not a T-vertex, and a T-junction of
 //      the input itself, away from every seam, is left as it was. A boundary
-//      edge a -> b is split at every T-vertex v of the same group, other than
-//      a, b and the face's third corner, that lies strictly inside it within
-//      the weld tolerance: distance from the line <= tol, and more than tol
-//      from a and from b. T-vertices within tol of one another are one split
+//      edge a -> b is split at every T-vertex v, other than a, b and the
+//      face's third corner, that lies strictly inside it within the weld
+//      tolerance: distance from the line <= tol, and more than tol from a and
+//      from b. v may belong to another group (material): where two materials
+//      meet, the input's faces share positions, not vertices, and one side's
+//      cut vertex is the only vertex that closes the other side's edge; the
+//      new corner is then a vertex of a's group at v's position (step 3). T-vertices within tol of one another are one split
 //      point (several vertices at one position: a texture seam on the other
 //      side).
 //   3. Each split point gets a new corner with the T-vertex's position exactly
@@ -179,10 +182,9 @@ std::size_t repair_t_junctions(StitchOutput& o, const Mesh& in, const ClipStitch
     std::sort(found.begin(), found.end());
     found.erase(std::unique(found.begin(), found.end()), found.end());
     cand.clear();
-    const std::uint32_t group = o.group(a);
     for (const std::int32_t m : found) {
       const std::uint32_t v = tv[std::size_t(m)];
-      if (v == a || v == b || v == opp || o.group(v) != group) continue;
+      if (v == a || v == b || v == opp) continue;
       const Eigen::Vector3d q = tpos[std::size_t(m)] - pa;
       const double t = q.dot(d) / len2;
       if (!(t * len > tol && (1.0 - t) * len > tol)) continue;
