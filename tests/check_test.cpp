@@ -201,6 +201,36 @@ TEST_CASE("check: flags the broken results and none of the exact ones on the gen
                 t[3]);
 }
 
+// Two copies with nothing in common glued together close every edge, so only the seam measure sees them:
+// the 2-section radiator grown by 2 comes out as two 2-section radiators end to end, their end plugs face
+// to face. Grown by 1 it is exact and passes.
+TEST_CASE("check: copies glued end cap to end cap are an unmatched seam; an exact grow is not", "[check][samples]") {
+  auto two = families::generate("radiator", {{"sections", 2}});
+  REQUIRE(two.ok());
+  auto a = analyze(two->mesh);
+  REQUIRE(a.ok());
+  auto steps = lattice_steps_from_world(*a, {2, 0, 0});
+  REQUIRE(steps.ok());
+  Retargeter<> r(two->mesh, *a);
+  auto out = r.retarget(*steps);
+  REQUIRE(out.ok());
+  auto four = families::generate("radiator", {{"sections", 4}});
+  REQUIRE(four.ok());
+  CHECK_FALSE(exact(out->mesh, four->mesh));
+  CHECK(out->report.boundary_edges_new() == 0);
+  std::set<std::string> checks;
+  for (const ResultWarning& w : out->report.warnings) checks.insert(w.check);
+  CHECK(checks == std::set<std::string>{"unmatched seam"});
+  auto one = lattice_steps_from_world(*a, {1, 0, 0});
+  REQUIRE(one.ok());
+  auto three = r.retarget(*one);
+  REQUIRE(three.ok());
+  auto truth = families::generate("radiator", {{"sections", 3}});
+  REQUIRE(truth.ok());
+  CHECK(exact(three->mesh, truth->mesh));
+  CHECK(three->report.warnings.empty());
+}
+
 namespace {
 // Every edge of m (positions welded at `tol`) is run once each way by its two faces: closed and
 // consistently oriented. Returns the edges that are not.

@@ -107,7 +107,7 @@ void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen
   std::printf("\n  wrote %s: %zu triangles in, %zu out\n", args.output.c_str(), rep.triangles_in, rep.triangles_out);
   std::printf("  boundary edges (positions welded): %zu in, %zu out, %zu new\n", rep.boundary_edges_in,
               rep.boundary_edges_out, rep.boundary_edges_new());
-  std::printf("  check: %s\n", rep.warnings.empty() ? "passed (no open seam, parts once, size as asked, no floating piece)"
+  std::printf("  check: %s\n", rep.warnings.empty() ? "passed (no open or unmatched seam, parts once, size as asked, no floating piece)"
                                                      : (std::to_string(rep.warnings.size()) + " warning(s)").c_str());
   if (rep.weld_tolerance_measured)
     std::printf("  weld tolerance %.3g of the diagonal, measured: the copies' vertices coincide to that (docs/method.md 3)\n",

@@ -282,7 +282,7 @@ Result<RetargetResult> Retargeter<LabelSpace, Solver, Stitcher>::retarget(const 
     rep.size_nearest = rep.size_out;
     if (input_shape_ && !out.mesh.empty()) {
       t = clock::now();
-      check_result(*input_shape_, out.mesh, grid_, shift, structure_.get(), rep);
+      check_result(*input_shape_, out.mesh, grid_, shift, structure_.get(), rep, slabs_->empty_mismatch());
       rep.timings_ms["check"] = ms_since(t);
     }
     rep.timings_ms["total"] = ms_since(t0);

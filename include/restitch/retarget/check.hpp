@@ -9,6 +9,9 @@
 //     welds them shut; a new open edge is a cut that the other side does not continue (half a pin, a
 //     wall cut with nothing beyond it) or a crack the stitcher could not close. The input's own open
 //     edges (sheets, touching boxes) and their copies are not counted.
+//   * "unmatched seam": a seam where one copy has surface near the cut and the other none within the seam
+//     measure's band (the measure's empty value, restitch/energy/seam_geometry.hpp): copies with nothing
+//     in common glued together, such as two end caps face to face, which close every edge.
 //   * "part count": a part that occurs once (restitch/lattice/structure.hpp) copied more than once,
 //     not at all, or only in part, read from the labels: the shifts of the output cells whose source
 //     lies in the part's slabs.
@@ -190,9 +193,12 @@ struct InputShape {
 /// moved by rep.placement.translation) from the shifts `shift` (one per output cell, linear order) with the
 /// grid steps rep.grid_steps; `structure` (null for none) is what occurs once. Fills rep.boundary_edges_out,
 /// and rep.open_edges, and appends a warning per failed check.
+///
+/// `empty_mismatch` (0: not checked) is the seam measure's value for a seam where one copy has surface near the
+/// cut and the other has none (CellSlabs::empty_mismatch); rep.seams must be measured.
 template <class = void>
 void check_result(const InputShape& input, const Mesh& out, const Lattice& grid, const std::vector<Eigen::Array3i>& shift,
-                  const CellStructure* structure, RetargetReport& rep) {
+                  const CellStructure* structure, RetargetReport& rep, double empty_mismatch = 0) {
   const Eigen::Array3i k = rep.grid_steps;
   rep.checked = true;
 
@@ -223,6 +229,32 @@ void check_result(const InputShape& input, const Mesh& out, const Lattice& grid,
                                              " edge(s) of the output are open where the input is closed (the copies "
                                              "meeting at a seam do not continue each other), the first near " +
                                              detail::format_point(at)});
+  }
+
+  // Unmatched seams: surface that reaches the cut on one side and nothing on the other within the slab
+  // band. Closed surfaces there (two end caps glued face to face, a part that ends at the cut) open no
+  // edge, so the open-seam check cannot see them. Only seams across a resized axis: there the two copies
+  // are consecutive along the repeat. Across another axis a seam lies where the labels step, and the
+  // measure gives an end cell the overhang past the input grid, which the stitcher keeps only at the
+  // output's ends: an exact result can measure empty there (docs/method.md 2.11).
+  if (empty_mismatch > 0) {
+    std::size_t unmatched = 0;
+    const SeamReport* first = nullptr;
+    for (const SeamReport& s : rep.seams) {
+      bool across_resized = false;
+      for (int a = 0; a < 3; ++a) across_resized |= s.cell_a[a] != s.cell_b[a] && k[a] != 0;
+      if (across_resized && s.mismatch >= empty_mismatch && unmatched++ == 0) first = &s;
+    }
+    if (first) {
+      auto cell = [](const Eigen::Array3i& c) {
+        return "(" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + ")";
+      };
+      rep.warnings.push_back({"unmatched seam", std::to_string(unmatched) +
+                                                    " seam(s) join surface on one side to none on the other (the "
+                                                    "copies meeting there have nothing in common), the first "
+                                                    "between output cells " +
+                                                    cell(first->cell_a) + " and " + cell(first->cell_b)});
+    }
   }
 
   // Parts copied once: the shifts along the part's axis of the cells whose source lies in its slabs. A part
