@@ -70,6 +70,13 @@
 
 namespace restitch::detail {
 
+/// x . y summed in a fixed order: Eigen may sum a 3-vector's products in another order where it
+/// vectorises (SSE2) than where it does not (WebAssembly), and the split parameter sets the new corner's
+/// attributes, which must come out the same bytes on every platform.
+inline double dot3(const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
+  return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+}
+
 /// Splits boundary seam edges at T-vertices (see the file comment). `rep_of`
 /// is the weld map; it grows by one entry per new vertex. `tol` is the weld
 /// tolerance used. Returns how many edges were split.
@@ -168,7 +175,7 @@ std::size_t repair_t_junctions(StitchOutput& o, const Mesh& in, const ClipStitch
     const int k = int(open[e] % 3);
     const std::uint32_t a = c[k], b = c[(k + 1) % 3], opp = c[(k + 2) % 3];
     const Eigen::Vector3d pa = pos(a), pb = pos(b), d = pb - pa;
-    const double len2 = d.squaredNorm(), len = std::sqrt(len2);
+    const double len2 = dot3(d, d), len = std::sqrt(len2);
     if (!(len > 2.0 * tol)) continue;
     found.clear();
     const int samples = int(std::ceil(len / h)) + 1;
@@ -186,9 +193,10 @@ std::size_t repair_t_junctions(StitchOutput& o, const Mesh& in, const ClipStitch
       const std::uint32_t v = tv[std::size_t(m)];
       if (v == a || v == b || v == opp) continue;
       const Eigen::Vector3d q = tpos[std::size_t(m)] - pa;
-      const double t = q.dot(d) / len2;
+      const double t = dot3(q, d) / len2;
       if (!(t * len > tol && (1.0 - t) * len > tol)) continue;
-      if ((q - t * d).squaredNorm() > tol2) continue;
+      const Eigen::Vector3d off = q - t * d;
+      if (dot3(off, off) > tol2) continue;
       cand.push_back({t, std::uint32_t(m)});
     }
     if (cand.empty()) continue;
@@ -198,9 +206,19 @@ std::size_t repair_t_junctions(StitchOutput& o, const Mesh& in, const ClipStitch
       const Eigen::Vector3d& p0 = tpos[cand[i].v];
       std::size_t j = i + 1;
       while (j < cand.size() && (tpos[cand[j].v] - p0).squaredNorm() <= tol2) ++j;
-      float p[3] = {0, 0, 0};
+      float p[3] = {0, 0, 0}, fa[3] = {0, 0, 0}, fb[3] = {0, 0, 0};
       o.position(tv[cand[i].v], p);
-      const std::uint32_t nv = o.interpolated_vertex(a, b, cand[i].t, p);
+      // The new corner's parameter from the stored (float) positions, each term in a fixed order, so that
+      // its attributes come out the same bytes on every platform.
+      o.position(a, fa);
+      o.position(b, fb);
+      double num = 0, den = 0;
+      for (int x = 0; x < 3; ++x) {
+        const double dx = double(fb[x]) - double(fa[x]);
+        num += (double(p[x]) - double(fa[x])) * dx;
+        den += dx * dx;
+      }
+      const std::uint32_t nv = o.interpolated_vertex(a, b, num / den, p);
       RESTITCH_ASSERT(nv == rep_of.size(), "repair_t_junctions: the weld map must cover every output vertex");
       // The weld rule: join the first compatible T-vertex at this point, in vertex order.
       std::uint32_t joined = nv;
