@@ -23,9 +23,9 @@
 //      from b. v may belong to another group (material): where two materials
 //      meet, the input's faces share positions, not vertices, and one side's
 //      cut vertex is the only vertex that closes the other side's edge; the
-//      new corner is then a vertex of a's group at v's position (step 3). T-vertices within tol of one another are one split
-//      point (several vertices at one position: a texture seam on the other
-//      side).
+//      new corner is then a vertex of a's group at v's position (step 3).
+//      T-vertices within tol of one another are one split point (several
+//      vertices at one position: a texture seam on the other side).
 //   3. Each split point gets a new corner with the T-vertex's position exactly
 //      and attributes interpolated along a -> b with the clipping rules
 //      (StitchOutput::interpolated_vertex). It then goes through the weld rule
@@ -70,9 +70,8 @@
 
 namespace restitch::detail {
 
-/// x . y summed in a fixed order: Eigen may sum a 3-vector's products in another order where it
-/// vectorises (SSE2) than where it does not (WebAssembly), and the split parameter sets the new corner's
-/// attributes, which must come out the same bytes on every platform.
+/// x . y summed in a fixed order, the same on every platform (no vectorised reduction): which T-vertices
+/// split an edge must not depend on the build.
 inline double dot3(const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
   return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
 }
