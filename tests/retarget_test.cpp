@@ -772,6 +772,74 @@ TEST_CASE("retarget: a seam moves off its cell plane to where the two copies con
   }
 }
 
+// The same row with plaques that differ by less than the samples can tell apart and more than the stitcher
+// closes: plaque k at height 1.1 + 0.01 {0, 2, 1, 4, 3, 0, 2}[k], so the copies of a plaque one or two
+// periods apart lie 0.01 to 0.03 apart, under 1.5 sample spacings (about 0.09), over the zipper's gap (1e-3
+// of the diagonal, 0.0065), wherever the labelling puts the seam. Judged on the
+// samples, a cell plane across the plaques is continued and stays, and the seams open; judged on the
+// surface (CellSlabs::set_surface, as the Retargeter does) it fails and moves between a plaque and a post,
+// and every seam closes (the BlendSwap radiator's sections, 0.2 to 0.7 apart at s = 1.5, were this case).
+TEST_CASE("retarget: a seam plane where the copies differ by more than the stitcher closes moves, however "
+          "close the samples (docs/method.md 2.9)",
+          "[retarget]") {
+  Mesh m;
+  test::add_box(m, {-0.2, -0.1, 0}, {6.2, 0, 0.1});
+  for (int k = 0; k < 6; ++k) test::add_box(m, {k + 0.45, 0.05, 0}, {k + 0.55, 1.0, 0.1});
+  for (int k = 0; k <= 6; ++k) {
+    const double h = 0.01 * std::array<int, 7>{{0, 2, 1, 4, 3, 0, 2}}[std::size_t(k)];
+    test::add_box(m, {k - 0.2, 1.1 + h, 0}, {k + 0.2, 1.2 + h, 0.1});
+  }
+  Result<Analysis> found = analyze(m);
+  REQUIRE(found.ok());
+  REQUIRE(found->principal.size() == 1);
+  const int a = axis_of(found->lattice, Eigen::Vector3d::UnitX());
+  REQUIRE(a >= 0);
+  REQUIRE(std::abs(found->lattice.A.col(a).norm() - 1.0) < 1e-3);
+  Analysis an = *found;  // planes at the integers: every one crosses a plaque
+  an.lattice.origin[0] = 0;
+  an.lattice.cells[a] = 6;
+  an.lattice.end_low[a] = 0;
+  an.lattice.end_high[a] = 1;
+  const double gap = 1e-3 * bounding_box(m).size().norm();
+  Eigen::Array3i s = CellGrid(an.lattice.cells).cell_of(an.lattice.to_canonical({2.5, 1.6, 0.05}));
+  Eigen::Array3i delta = Eigen::Array3i::Zero();
+  s[a] = 2;
+  delta[a] = 1;
+  CellSlabs samples(an, an.lattice), surface(an, an.lattice);
+  surface.set_surface(m, gap);
+  REQUIRE(0.01 > gap);
+  REQUIRE(0.03 < 1.5 * samples.spacing());  // the samples alone take the copies for continued
+  const CellSlabs::SeamPositions &by_samples = samples.seam_positions(s, a, delta, 16),
+                                 &by_surface = surface.seam_positions(s, a, delta, 16);
+  CHECK(by_samples.fail[7] == 0);  // the cell plane, j = 0
+  CHECK(by_surface.fail[7] > 0);
+  for (int j = -7; j <= 7; ++j) {
+    INFO("position " << j << "/16: fail " << by_surface.fail[std::size_t(j + 7)]);
+    CHECK(by_surface.cut[std::size_t(j + 7)] == by_samples.cut[std::size_t(j + 7)]);
+    if (std::abs(j) <= 3) CHECK(by_surface.fail[std::size_t(j + 7)] > 0);   // the plaques at 0 +- 0.2
+    if (std::abs(j) >= 5) CHECK(by_surface.fail[std::size_t(j + 7)] == 0);  // between a plaque and a post
+  }
+  for (const int steps : {1, 2}) {
+    INFO("steps " << steps);
+    Eigen::Array3i k = Eigen::Array3i::Zero();
+    k[a] = steps;
+    RetargetOptions on, off;
+    off.move_seams = false;
+    Retargeter<> r_on(m, an, on), r_off(m, an, off);
+    Result<RetargetResult> x = r_on.retarget(k), y = r_off.retarget(k);
+    REQUIRE(x.ok());
+    REQUIRE(y.ok());
+    REQUIRE(y->report.boundary_edges_new() > 0);  // on the cell planes the plaques' seams are open
+    CHECK(x->report.seams_moved > 0);
+    CHECK(x->report.boundary_edges_new() == 0);
+    CHECK(x->report.boundary_edges_out == 0);
+    for (const ResultWarning& w : x->report.warnings) {  // no plaque repeats: said before the resize, and only that
+      INFO(w.check << ": " << w.message);
+      CHECK(w.check == "undecided axis");
+    }
+  }
+}
+
 TEST_CASE("retarget: a vertex no face uses, however far away, changes nothing (found by fuzz_pipeline)",
           "[retarget]") {
   // glTF allows unused positions anywhere. One at 3.7e19 made the snapping's hash-grid cell overflow a

@@ -16,8 +16,8 @@
 //    --quick, on the real models in --models DIR (default ../shared/models)
 //
 // 7. counts (not with --quick): every family with structure around its repeat, generated at 2 to 10 modules and resized
-//    from each count to every other with the defaults, compared in place with the family generated at
-//    that count (bounding box and surface distance within 1e-4 of the diagonal; open boundary length)
+//    from each count to the size of every other with the defaults, compared in place with the family generated
+//    at that count (bounding box and surface distance within 1e-4 of the diagonal; open boundary length)
 //
 //   bench --only detectors     runs section 6 alone
 //
@@ -512,8 +512,9 @@ void bench_detectors(const std::vector<std::string>& families, const std::string
   }
 }
 
-// Section 7: each family at n = 2..10 modules resized to every other count m, compared in place with the
-// family generated at m. One letter per resize: '.' exact in place and no more open boundary than the
+// Section 7: each family at n = 2..10 modules resized to the size of the family at every other count m along
+// the repeat (the nearest whole periods, Retargeter::retarget_to_size), compared in place with the family
+// generated at m. One letter per resize: '.' exact in place and no more open boundary than the
 // truth, no warning; 'e' the same with a warning (a false alarm); 'o' exact in shape, more open boundary; 'W' a centred part half a period off, which the report
 // warns of (whole periods cannot keep it centred); 'w' wrong, with a warning; 'X' wrong, no warning;
 // 'R' refused; 'A' no principal offset along the family's repeat at n.
@@ -541,14 +542,17 @@ void bench_counts(nlohmann::json& out) {
         char c = '-';
         if (m != n && axis < 0) c = 'A';
         if (m != n && axis >= 0) {
-          Eigen::Array3i steps = Eigen::Array3i::Zero();
-          steps[axis] = m - n;
-          auto res = r->retarget(steps);
+          // Asked as a user would: the size of the part at m along the repeat's world axis.
+          const Mesh truth = families::generate(name, {{count, m}})->mesh;
+          const BoundingBox bt = bounding_box(truth);
+          Eigen::Vector3d target = Eigen::Vector3d::Zero();
+          const int w = world_axis_of(s->generators[0]);
+          target[w] = bt.size()[w];
+          auto res = r->retarget_to_size(target, false);
           if (!res.ok()) {
             c = 'R';
           } else {
-            const Mesh truth = families::generate(name, {{count, m}})->mesh;
-            const BoundingBox bt = bounding_box(truth), bo = bounding_box(res->mesh);
+            const BoundingBox bo = bounding_box(res->mesh);
             const double size = bt.size().norm();
             const bool exact = (bt.min - bo.min).norm() < 1e-4 * size && (bt.max - bo.max).norm() < 1e-4 * size &&
                                test::symmetric_surface_distance(res->mesh, truth, 0.004 * size) < 1e-4 * size;

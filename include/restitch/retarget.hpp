@@ -177,6 +177,9 @@ Retargeter<LabelSpace, Solver, Stitcher>::Retargeter(const Mesh& mesh, const Ana
                                               std::to_string(options_.max_problem_size) + ")");
     cells_ = std::make_unique<CellDescriptors>(analysis, grid_, options_.set_distance);
     slabs_ = std::make_unique<CellSlabs>(analysis, grid_);
+    // Seams move to where the stitcher can close them (docs/method.md 2.9): the copies' surfaces within its
+    // zipper's gap, 1e-3 of the diagonal.
+    slabs_->set_surface(mesh, 1e-3 * bounding_box(mesh).size().norm());
     // Parts that occur once are found on the lattice's own cells (one period each); a label space with
     // other cells (the regular baseline) keeps the paper's labelling.
     const Lattice& L = analysis.lattice;
@@ -322,7 +325,10 @@ Result<RetargetResult> Retargeter<LabelSpace, Solver, Stitcher>::retarget_to_siz
     Result<RetargetResult> out = retarget(*steps, progress);
     RESTITCH_TRY(out.status());
     RetargetReport& rep = out->report;
-    if (!exact) return out;
+    if (!exact) {
+      if (rep.checked) check_size_asked(target, analysis_->lattice, rep);
+      return out;
+    }
     rep.exact = true;
     for (int i = 0; i < 3; ++i)
       if (target[i] > 0 && rep.size_out[i] > 0) rep.scale[i] = target[i] / rep.size_out[i];

@@ -52,6 +52,7 @@
 
 #include "restitch/analysis.hpp"
 #include "restitch/detail/point_tree.hpp"
+#include "restitch/detail/triangle_surface.hpp"
 #include "restitch/lattice/grid.hpp"
 #include "restitch/lattice/lattice.hpp"
 
@@ -146,6 +147,17 @@ class CellSlabs {
   /// The sample spacing and the slab half-width (2 x spacing), model units.
   double spacing() const { return spacing_; }
   double half_width() const { return half_width_; }
+  /// The input's surface, against which seam_positions tests continuation exactly: a sample moved to the
+  /// other copy is continued when it lies within `tolerance` (model units) of the surface, the gap the
+  /// stitcher closes (its zipper's, restitch/stitch/detail/zipper.hpp). Without it, the samples' 1.5
+  /// spacings. `mesh` must outlive this; its surface is built on first use.
+  void set_surface(const Mesh& mesh, double tolerance) {
+    surface_mesh_ = &mesh;
+    surface_tolerance_ = tolerance;
+    surface_.reset();
+    positions_cache_.clear();
+  }
+
   /// The cost of samples in one slab against nothing around the other (model units).
   double empty_mismatch() const { return empty_mismatch_; }
   /// Samples in the slab of inside cell c toward e (after the stride cap), and around it.
@@ -231,10 +243,11 @@ class CellSlabs {
   /// dj, given as the input cell s = x - di and the shift difference delta = dj - di. Candidate planes
   /// t_j = 1 + j / K along a, in cells from x's lower plane, j = -J .. J with J = K / 2 - 1 (K >= 4).
   /// Near a cut at t the result holds x's copy below t and y's from t on. A sample of the input that
-  /// lands within one sample spacing below t from x's copy, or from t on from y's, is *continued* when
-  /// the input has a sample within 1.5 spacings of it moved by the shift difference (toward the other
-  /// copy's source): the other copy has surface there too (1.5 spacings: the match distance of the
-  /// end planes' periodic part, lattice/fit.hpp). fail[j + J] counts the samples near t_j that are not
+  /// lands within one sample spacing below t from x's copy, or from t on from y's, is *continued* when,
+  /// moved by the shift difference (toward the other copy's source), it lies within the stitcher's gap of
+  /// the input's surface (set_surface): the other copy has surface there too, close enough for the seam
+  /// to close. Without a surface set: when the input has a sample within 1.5 spacings of it (the match
+  /// distance of the end planes' periodic part, lattice/fit.hpp). fail[j + J] counts the samples near t_j that are not
   /// continued, cut[j + J] all samples near t_j (the surface the cut crosses), valid[j + J] whether
   /// both copies exist there: t > 1 needs input cell y - di = s + e_a, t < 1 needs x - dj = s - delta
   /// (s and s + e_a - delta, the copies' own cells, must lie in the input, else nothing is valid).
@@ -266,6 +279,8 @@ class CellSlabs {
     const double tau2 = 2.25 * spacing_ * spacing_;
     const Eigen::Vector3d move = A_ * delta.cast<double>().matrix();  // model units
     const detail::PointSetTree& tree = sample_tree();
+    if (surface_mesh_ && !surface_) surface_ = std::make_shared<detail::TriangleSurface>(*surface_mesh_);
+    const detail::TriangleSurface* surface = surface_.get();
     // side 0: x's copy (below the cut), from input cells s and s + e_a; its samples moved by -move must
     // meet a sample. side 1: y's copy (from the cut on), cells s - delta and s - delta + e_a; by +move.
     for (int side = 0; side < 2; ++side) {
@@ -277,13 +292,19 @@ class CellSlabs {
           if (w < 0.5 - h || w >= 1.5 + h) continue;
           const Eigen::Vector3d q = points_[std::size_t(i)] + (side == 0 ? -move : move);
           const float qf[3] = {float(q[0]), float(q[1]), float(q[2])};
-          detail::NearestWithin nearest = detail::NearestWithin::keeping(tau2);
-          tree.findNeighbors(nearest, qf, nanoflann::SearchParams());
+          bool found;
+          if (surface) {
+            found = surface->distance_within(q, surface_tolerance_) < surface_tolerance_;
+          } else {
+            detail::NearestWithin nearest = detail::NearestWithin::keeping(tau2);
+            tree.findNeighbors(nearest, qf, nanoflann::SearchParams());
+            found = nearest.found;
+          }
           for (int j = -J; j <= J; ++j) {
             const double t = 1.0 + double(j) / K;
             if (side == 0 ? (w < t - h || w >= t) : (w < t || w >= t + h)) continue;
             ++out.cut[std::size_t(j + J)];
-            if (!nearest.found) ++out.fail[std::size_t(j + J)];
+            if (!found) ++out.fail[std::size_t(j + J)];
           }
         }
       }
@@ -416,6 +437,9 @@ class CellSlabs {
   };
   std::shared_ptr<SampleTree> tree_;
   std::map<std::tuple<int, int, int, int, int, int>, SeamPositions> positions_cache_;
+  const Mesh* surface_mesh_ = nullptr;  // set_surface
+  double surface_tolerance_ = 0;
+  std::shared_ptr<detail::TriangleSurface> surface_;
 
   template <class = void>
   const detail::PointSetTree& sample_tree() {

@@ -15,7 +15,8 @@
 //   * "part count": a part that occurs once (restitch/lattice/structure.hpp) copied more than once,
 //     not at all, or only in part, read from the labels: the shifts of the output cells whose source
 //     lies in the part's slabs.
-//   * "size": an output box that is not the input's grown by the whole periods asked for.
+//   * "size": an output box that is not the input's grown by the whole periods asked for; and, for a
+//     request by size without the exact scale (check_size_asked), one that is not the size asked.
 //   * "floating piece": a group of touching pieces of the output whose box is no input group's box
 //     grown by whole periods along the resized axes (a fragment cut off, a copy left in the air).
 // Tolerances: positions at twice the stitcher's weld tolerance (a cut point lies on its input edge to
@@ -313,6 +314,33 @@ void check_result(const InputShape& input, const Mesh& out, const Lattice& grid,
                                                     ") touches nothing else and is no piece of the input"});
       break;
     }
+  }
+}
+
+/// The result check's "size asked" (docs/method.md 2.11), for a request by size without the exact scale:
+/// along each world axis asked to change (size_changes), the output's size `rep.size_out` must be the
+/// asked size within 1e-3 of the input's diagonal (the "size" check's tolerance). The nearest whole periods
+/// miss it when the asked size is no whole number of periods away: a size typed between two counts, or a
+/// period found at a multiple or a fraction of the one the user counts in (a run of slats with its rail
+/// taken for the period: every size between two of its copies is missed). Appends a warning saying the
+/// size asked, the size given and the period along that axis.
+template <class = void>
+void check_size_asked(const Eigen::Vector3d& target, const Lattice& L, RetargetReport& rep) {
+  const double tol = 1e-3 * rep.size_in.norm();
+  const std::array<bool, 3> asked = size_changes(target, rep.size_in);
+  for (int w = 0; w < 3; ++w) {
+    if (!asked[std::size_t(w)] || std::abs(rep.size_out[w] - target[w]) <= tol) continue;
+    if (!size_changes(target, rep.size_out)[std::size_t(w)]) continue;  // the output, as typed
+    std::string periods;
+    for (int a = 0; a < 3; ++a)
+      if (!L.dummy[a] && world_axis_of(L.A.col(a)) == w)
+        periods += (periods.empty() ? "" : ", ") + detail::format_size(std::abs(L.A(w, a)));
+    const std::string axis(1, "xyz"[w]);
+    rep.warnings.push_back({"size", "asked " + detail::format_size(target[w]) + " along " + axis + "; the output is " +
+                                        detail::format_size(rep.size_out[w]) + ", the nearest size whole periods (" +
+                                        periods + " along " + axis + ") reach from " +
+                                        detail::format_size(rep.size_in[w])});
+    return;
   }
 }
 
