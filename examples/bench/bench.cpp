@@ -15,9 +15,10 @@
 //    family (which true generators each recovers, time per stage) and, unless
 //    --quick, on the real models in --models DIR (default ../shared/models)
 //
-// 7. counts (not with --quick): every family with structure around its repeat, generated at 2 to 10 modules and resized
+// 7. counts (not with --quick): every family, generated at 2 to 10 modules and resized
 //    from each count to the size of every other with the defaults, compared in place with the family generated
-//    at that count (bounding box and surface distance within 1e-4 of the diagonal; open boundary length)
+//    at that count (bounding box and surface distance within 1e-4 of the diagonal; open boundary length; results
+//    with open edges that are no copies of the input's)
 //
 //   bench --only detectors     runs section 6 alone
 //
@@ -521,9 +522,10 @@ void bench_detectors(const std::vector<std::string>& families, const std::string
 void bench_counts(nlohmann::json& out) {
   std::printf("\n== every count to every other (n = 2..10 modules, rows: from n, columns: to m)\n");
   for (const std::string name : {"connector", "box_header", "cabinet", "radiator", "railing", "shutter", "fence",
-                                 "pin_header"}) {
+                                 "pin_header", "bookshelf", "facade", "facade_sheared", "tube_rail"}) {
     const std::string count = families::generate(name)->count_parameters[0];
     std::map<char, int> tally;
+    int opened = 0, opened_warned = 0;  // resizes with open edges that are no copies of the input's
     nlohmann::json rows = nlohmann::json::array();
     std::printf("%s (%s):\n", name.c_str(), count.c_str());
     for (int n = 2; n <= 10; ++n) {
@@ -552,6 +554,10 @@ void bench_counts(nlohmann::json& out) {
           if (!res.ok()) {
             c = 'R';
           } else {
+            if (res->report.boundary_edges_new() > 0) {
+              ++opened;
+              opened_warned += !res->report.warnings.empty();
+            }
             const BoundingBox bo = bounding_box(res->mesh);
             const double size = bt.size().norm();
             const bool exact = (bt.min - bo.min).norm() < 1e-4 * size && (bt.max - bo.max).norm() < 1e-4 * size &&
@@ -574,12 +580,14 @@ void bench_counts(nlohmann::json& out) {
       rows.push_back(row);
     }
     std::printf("  exact %d (more open %d, warned %d), centred part off by half a period %d, wrong and warned %d, wrong "
-                "silently %d, refused %d, no repeat found %d\n",
-                tally['.'] + tally['e'], tally['o'], tally['e'], tally['W'], tally['w'], tally['X'], tally['R'], tally['A']);
+                "silently %d, refused %d, no repeat found %d; new open edges in %d (warned %d)\n",
+                tally['.'] + tally['e'], tally['o'], tally['e'], tally['W'], tally['w'], tally['X'], tally['R'], tally['A'],
+                opened, opened_warned);
     out["counts"][name] = {{"rows", rows}, {"exact", tally['.'] + tally['e']}, {"exact_more_open", tally['o']},
                            {"exact_warned", tally['e']},
                            {"centred_off", tally['W']}, {"warned", tally['w']}, {"silent", tally['X']},
-                           {"refused", tally['R']}, {"no_repeat", tally['A']}};
+                           {"refused", tally['R']}, {"no_repeat", tally['A']}, {"opened", opened},
+                           {"opened_warned", opened_warned}};
   }
 }
 
