@@ -176,18 +176,18 @@ Retargeter<LabelSpace, Solver, Stitcher>::Retargeter(const Mesh& mesh, const Ana
                                               " cells, more than max_problem_size (" +
                                               std::to_string(options_.max_problem_size) + ")");
     cells_ = std::make_unique<CellDescriptors>(analysis, grid_, options_.set_distance);
+    box_in_ = bounding_box(mesh);
+    size_in_ = box_in_.size();
     slabs_ = std::make_unique<CellSlabs>(analysis, grid_);
     // Seams move to where the stitcher can close them (docs/method.md 2.9): the copies' surfaces within its
-    // zipper's gap, 1e-3 of the diagonal.
-    slabs_->set_surface(mesh, 1e-3 * bounding_box(mesh).size().norm());
+    // zipper's gap.
+    slabs_->set_surface(mesh, detail::zip_gap_of_diagonal * size_in_.norm());
     // Parts that occur once are found on the lattice's own cells (one period each); a label space with
     // other cells (the regular baseline) keeps the paper's labelling.
     const Lattice& L = analysis.lattice;
     if (options_.keep_parts && (grid_.cells == L.cells).all() && grid_.A == L.A && grid_.origin == L.origin)
       structure_ = std::make_unique<CellStructure>(cell_structure(mesh, analysis, grid_));
     RESTITCH_TRY(stitch_.prepare(mesh, grid_));
-    box_in_ = bounding_box(mesh);
-    size_in_ = box_in_.size();
     if (options_.check) input_shape_ = std::make_unique<InputShape>(mesh, stitch_.weld_tolerance());
     return {};
   });

@@ -252,7 +252,8 @@ class CellSlabs {
   /// both copies exist there: t > 1 needs input cell y - di = s + e_a, t < 1 needs x - dj = s - delta
   /// (s and s + e_a - delta, the copies' own cells, must lie in the input, else nothing is valid).
   /// Cells are clamped as in the stitcher. Cached per (s, a, delta, K). Cost of a new one: O(n (log N
-  /// + J)) for the n samples of those four cells (a k-d tree over all N samples, built on first use).
+  /// + J)) for the n samples of those four cells (an AABB tree over the N input triangles with a surface
+  /// set, else a k-d tree over all N samples; built on first use).
   struct SeamPositions {
     std::vector<int> fail, cut;
     std::vector<char> valid;
@@ -278,9 +279,9 @@ class CellSlabs {
     const double h = spacing_ * Ainv_.row(a).norm();  // one spacing across the planes of a, in cells
     const double tau2 = 2.25 * spacing_ * spacing_;
     const Eigen::Vector3d move = A_ * delta.cast<double>().matrix();  // model units
-    const detail::PointSetTree& tree = sample_tree();
     if (surface_mesh_ && !surface_) surface_ = std::make_shared<detail::TriangleSurface>(*surface_mesh_);
     const detail::TriangleSurface* surface = surface_.get();
+    const detail::PointSetTree* tree = surface ? nullptr : &sample_tree();
     // side 0: x's copy (below the cut), from input cells s and s + e_a; its samples moved by -move must
     // meet a sample. side 1: y's copy (from the cut on), cells s - delta and s - delta + e_a; by +move.
     for (int side = 0; side < 2; ++side) {
@@ -291,13 +292,13 @@ class CellSlabs {
           const double w = canonical_[std::size_t(i)][a] - double(lower[a]);  // from x's lower plane
           if (w < 0.5 - h || w >= 1.5 + h) continue;
           const Eigen::Vector3d q = points_[std::size_t(i)] + (side == 0 ? -move : move);
-          const float qf[3] = {float(q[0]), float(q[1]), float(q[2])};
           bool found;
           if (surface) {
             found = surface->distance_within(q, surface_tolerance_) < surface_tolerance_;
           } else {
+            const float qf[3] = {float(q[0]), float(q[1]), float(q[2])};
             detail::NearestWithin nearest = detail::NearestWithin::keeping(tau2);
-            tree.findNeighbors(nearest, qf, nanoflann::SearchParams());
+            tree->findNeighbors(nearest, qf, nanoflann::SearchParams());
             found = nearest.found;
           }
           for (int j = -J; j <= J; ++j) {

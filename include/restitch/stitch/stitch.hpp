@@ -295,7 +295,7 @@ class ClipStitcher {
       report.t_junction_edges_split =
           detail::repair_t_junctions(output, in, cache, layout, float(attribute_tolerance), tol, rep_of);
     if (weld && zip_seams)
-      report.zip_triangles = detail::zip_seams(output, cache, 1e-3 * cache.diagonal(), rep_of);
+      report.zip_triangles = detail::zip_seams(output, cache, detail::zip_gap_of_diagonal * cache.diagonal(), rep_of);
     output.assemble(rep_of, out);
   }
 

@@ -55,6 +55,10 @@
 
 namespace restitch::detail {
 
+/// The zipper's gap as a fraction of the input's bounding-box diagonal (see the file comment). The seam
+/// mover judges continuation at the same gap (restitch/energy/seam_geometry.hpp, CellSlabs::set_surface).
+inline constexpr double zip_gap_of_diagonal = 1e-3;
+
 /// Closes seams whose sides lie within `gap` (model units) of each other with strips of triangles (see the
 /// file comment). `rep_of` is the weld map. Returns how many triangles were added.
 template <class = void>
