@@ -172,7 +172,14 @@ try {
     assert(Math.abs(r.size_out[axis] - want) < 1e-5 * want, `size ${r.size_out[axis]} for ${want}`);
     assert(r.steps_principal[0] === 2, `steps_principal ${r.steps_principal} (2 repeats are the nearest)`);
     assert(Math.abs(r.exact.size_nearest[axis] - (sizeIn + 2 * pitch)) < 1e-4 * want, `nearest ${r.exact.size_nearest[axis]}`);
-    const slider = await page.locator('.lil-gui .lil-controller.lil-number').filter({ hasText: 'v1 steps' }).locator('input').first().inputValue();
+    // The report is in the page's state before the view has drawn it; the slider follows once the resize's
+    // promise resolves (after the view), so it is read until it shows the steps, for up to 10 s.
+    const sliderInput = page.locator('.lil-gui .lil-controller.lil-number').filter({ hasText: 'v1 steps' }).locator('input').first();
+    let slider = await sliderInput.inputValue();
+    for (let t = 0; Number(slider) !== 2 && t < 100; ++t) {
+      await page.waitForTimeout(100);
+      slider = await sliderInput.inputValue();
+    }
     assert(Number(slider) === 2, `the v1 slider shows ${slider}`);
     assert(Math.abs(Number(await field.inputValue()) - want) < 1e-3, `the field shows ${await field.inputValue()}`);
     await page.evaluate(() => window.restitchDemo.setSteps([0, 0, 0]));
