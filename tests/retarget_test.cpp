@@ -2,6 +2,7 @@
 // the energy, label spaces and limits behave as documented.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <map>
 #include <set>
 
@@ -673,12 +674,15 @@ namespace {
 // A row of 6 posts (pitch 1, at k + 0.5) on a rail, with a plaque of width 0.4 centred on every integer
 // x, each at its own height: nothing repeats across an integer plane, but the copies of the row one
 // period apart continue each other between a plaque and a post (relative x 0.28 to 0.37 and 0.63 to
-// 0.72, a sample spacing being about 0.06).
-Mesh plaque_row() {
+// 0.72, a sample spacing being about 0.06). `rise[k]`: plaque k's bottom above 1.1 (default 0.15 k).
+Mesh plaque_row(const std::array<double, 7>& rise = {0, 0.15, 0.3, 0.45, 0.6, 0.75, 0.9}) {
   Mesh m;
   test::add_box(m, {-0.2, -0.1, 0}, {6.2, 0, 0.1});
   for (int k = 0; k < 6; ++k) test::add_box(m, {k + 0.45, 0.05, 0}, {k + 0.55, 1.0, 0.1});
-  for (int k = 0; k <= 6; ++k) test::add_box(m, {k - 0.2, 1.1 + 0.15 * k, 0}, {k + 0.2, 1.2 + 0.15 * k, 0.1});
+  for (int k = 0; k <= 6; ++k) {
+    const double h = rise[std::size_t(k)];
+    test::add_box(m, {k - 0.2, 1.1 + h, 0}, {k + 0.2, 1.2 + h, 0.1});
+  }
   return m;
 }
 }  // namespace
@@ -782,13 +786,7 @@ TEST_CASE("retarget: a seam moves off its cell plane to where the two copies con
 TEST_CASE("retarget: a seam plane where the copies differ by more than the stitcher closes moves, however "
           "close the samples (docs/method.md 2.9)",
           "[retarget]") {
-  Mesh m;
-  test::add_box(m, {-0.2, -0.1, 0}, {6.2, 0, 0.1});
-  for (int k = 0; k < 6; ++k) test::add_box(m, {k + 0.45, 0.05, 0}, {k + 0.55, 1.0, 0.1});
-  for (int k = 0; k <= 6; ++k) {
-    const double h = 0.01 * std::array<int, 7>{{0, 2, 1, 4, 3, 0, 2}}[std::size_t(k)];
-    test::add_box(m, {k - 0.2, 1.1 + h, 0}, {k + 0.2, 1.2 + h, 0.1});
-  }
+  const Mesh m = plaque_row({0, 0.02, 0.01, 0.04, 0.03, 0, 0.02});
   Result<Analysis> found = analyze(m);
   REQUIRE(found.ok());
   REQUIRE(found->principal.size() == 1);
