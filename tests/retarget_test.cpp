@@ -685,6 +685,28 @@ Mesh plaque_row(const std::array<double, 7>& rise = {0, 0.15, 0.3, 0.45, 0.6, 0.
   }
   return m;
 }
+
+// The row's analysis with its cell planes at the integers along axis a: every one crosses a plaque.
+Analysis planes_on_plaques(Analysis an, int a) {
+  an.lattice.origin[0] = 0;
+  an.lattice.cells[a] = 6;
+  an.lattice.end_low[a] = 0;
+  an.lattice.end_high[a] = 1;
+  return an;
+}
+
+// The row grown by `steps` along axis a with seams moved off the cell planes (first) and on them (second).
+std::pair<RetargetResult, RetargetResult> moved_and_on_planes(const Mesh& m, const Analysis& an, int a, int steps) {
+  Eigen::Array3i k = Eigen::Array3i::Zero();
+  k[a] = steps;
+  RetargetOptions on, off;
+  off.move_seams = false;
+  Retargeter<> r_on(m, an, on), r_off(m, an, off);
+  Result<RetargetResult> x = r_on.retarget(k), y = r_off.retarget(k);
+  REQUIRE(x.ok());
+  REQUIRE(y.ok());
+  return {std::move(*x), std::move(*y)};
+}
 }  // namespace
 
 TEST_CASE("retarget: a seam moves off its cell plane to where the two copies continue each other, so no part is "
@@ -718,11 +740,7 @@ TEST_CASE("retarget: a seam moves off its cell plane to where the two copies con
   }
 
   SECTION("with every cell plane on a plaque, the seams on cell planes cut plaques and the moved ones do not") {
-    Analysis an = *found;  // planes at the integers: every one crosses a plaque
-    an.lattice.origin[0] = 0;
-    an.lattice.cells[a] = 6;
-    an.lattice.end_low[a] = 0;
-    an.lattice.end_high[a] = 1;
+    const Analysis an = planes_on_plaques(*found, a);
     // The candidates of the seam between the copy of input cell 2 and the copy one period on, in the
     // row of the plaque at x = 3 (known answer).
     CellSlabs slabs(an, an.lattice);
@@ -741,14 +759,8 @@ TEST_CASE("retarget: a seam moves off its cell plane to where the two copies con
     }
     for (const int steps : {1, 2}) {
       INFO("steps " << steps);
-      Eigen::Array3i k = Eigen::Array3i::Zero();
-      k[a] = steps;
-      RetargetOptions on, off;
-      off.move_seams = false;
-      Retargeter<> r_on(m, an, on), r_off(m, an, off);
-      Result<RetargetResult> x = r_on.retarget(k), y = r_off.retarget(k);
-      REQUIRE(x.ok());
-      REQUIRE(y.ok());
+      const auto [moved, planes] = moved_and_on_planes(m, an, a, steps);
+      const RetargetResult *x = &moved, *y = &planes;
       // On cell planes some plaque is cut (or spliced from two): the test means something.
       REQUIRE(test::unmatched_pieces(test::welded_components(y->mesh), pieces_in, 1e-3, is_rail) > 0);
       CHECK(y->report.seams_moved == 0);
@@ -793,11 +805,7 @@ TEST_CASE("retarget: a seam plane where the copies differ by more than the stitc
   const int a = axis_of(found->lattice, Eigen::Vector3d::UnitX());
   REQUIRE(a >= 0);
   REQUIRE(std::abs(found->lattice.A.col(a).norm() - 1.0) < 1e-3);
-  Analysis an = *found;  // planes at the integers: every one crosses a plaque
-  an.lattice.origin[0] = 0;
-  an.lattice.cells[a] = 6;
-  an.lattice.end_low[a] = 0;
-  an.lattice.end_high[a] = 1;
+  const Analysis an = planes_on_plaques(*found, a);
   const double gap = 1e-3 * bounding_box(m).size().norm();
   Eigen::Array3i s = CellGrid(an.lattice.cells).cell_of(an.lattice.to_canonical({2.5, 1.6, 0.05}));
   Eigen::Array3i delta = Eigen::Array3i::Zero();
@@ -819,14 +827,8 @@ TEST_CASE("retarget: a seam plane where the copies differ by more than the stitc
   }
   for (const int steps : {1, 2}) {
     INFO("steps " << steps);
-    Eigen::Array3i k = Eigen::Array3i::Zero();
-    k[a] = steps;
-    RetargetOptions on, off;
-    off.move_seams = false;
-    Retargeter<> r_on(m, an, on), r_off(m, an, off);
-    Result<RetargetResult> x = r_on.retarget(k), y = r_off.retarget(k);
-    REQUIRE(x.ok());
-    REQUIRE(y.ok());
+    const auto [moved, planes] = moved_and_on_planes(m, an, a, steps);
+    const RetargetResult *x = &moved, *y = &planes;
     REQUIRE(y->report.boundary_edges_new() > 0);  // on the cell planes the plaques' seams are open
     CHECK(x->report.seams_moved > 0);
     CHECK(x->report.boundary_edges_new() == 0);
