@@ -64,6 +64,8 @@ struct SingularPart {
   PartAnchor anchor = PartAnchor::low;
   /// Its centre minus the model's centre along the axis, in periods (a centred part: within +-1/2).
   double offset = 0;
+  /// How closely `offset` is measured, in periods: one sample spacing (CellStructure::spacing).
+  double precision = 0;
   /// A copy of the next part along its axis, or of the previous one (as many slabs, each a copy of its
   /// counterpart): content that occurs more than once, which a period that makes it a part has missed
   /// (docs/method.md 1.12).
@@ -80,6 +82,9 @@ struct CellStructure {
   Eigen::Array3i cells = Eigen::Array3i::Ones();
   /// Per axis: the model's extent in canonical coordinates (its samples' lowest and highest).
   Eigen::Array3d extent_low = Eigen::Array3d::Zero(), extent_high = Eigen::Array3d::Zero();
+  /// Per axis: the model's low (high) end lies inside its end cell (its end plane is not the outer cell
+  /// plane), so an output's end cell holds the end, whatever the end slab's periodic part repeats.
+  std::array<bool, 3> end_inside_low{{false, false, false}}, end_inside_high{{false, false, false}};
   /// Per axis: one sample spacing in periods, how closely a position along the axis is measured.
   Eigen::Array3d spacing = Eigen::Array3d::Zero();
   double tolerance = 0;  ///< model units
@@ -101,16 +106,18 @@ struct CellStructure {
   }
   /// The label shift along a that keeps part p where it belongs in a resize by k cells along a: 0 for
   /// the low end, k for the high end; for the centre, the whole number of cells d that brings it nearest
-  /// the new centre (which moves by k / 2: |offset + d - k / 2| least), and of two equally near the one on
-  /// the side of the centre the part was on (above it for a part exactly centred). A part off the centre
-  /// by half a period in a model of odd length (a rail after ceil(n / 2) of n slats) is so kept exactly.
+  /// the new centre (which moves by k / 2: |offset + d - k / 2| least), and of two equally near (within
+  /// what the part's centre is measured to: their misses differ by twice its error) the one on the side
+  /// of the centre the part was on (above it for a part exactly centred). A part off the centre by half a
+  /// period in a model of odd length (a rail after ceil(n / 2) of n slats) is so kept exactly, whichever
+  /// way the measurement rounds its half.
   static int shift_of(const SingularPart& p, int k) {
     if (p.anchor != PartAnchor::centre) return p.anchor == PartAnchor::low ? 0 : k;
     const double want = 0.5 * k - p.offset;  // d with the part exactly at the new centre
     const int below = int(std::floor(want)), above = below + 1;
     const double miss_below = want - below, miss_above = above - want;  // how far each lands from it
-    if (std::abs(miss_below - miss_above) > 1e-9) return miss_below < miss_above ? below : above;
-    return p.offset < 0 ? below : above;  // a tie: stay on the part's side (above when centred)
+    if (std::abs(miss_below - miss_above) > 2 * p.precision + 1e-9) return miss_below < miss_above ? below : above;
+    return p.offset < -p.precision ? below : above;  // a tie: stay on the part's side (above when centred)
   }
   /// How far part p lies from the centre after a resize by k along its axis with shift_of (periods).
   static double offset_after(const SingularPart& p, int k) { return p.offset + shift_of(p, k) - 0.5 * k; }
@@ -124,15 +131,17 @@ inline std::string describe_part(const SingularPart& p) {
 }
 
 /// Whether the parts along axis a still fit, in order and apart, when it changes by k cells: each
-/// part's slabs land at slab + CellStructure::shift_of inside the output, after the previous part's.
+/// part's slabs land at slab + CellStructure::shift_of inside the output, after the previous part's, and
+/// off an output end cell that holds the model's end (end_inside_low, _high) unless the part holds that end.
 template <class = void>
 bool parts_fit(const CellStructure& s, int a, int k) {
-  const int out = s.cells[a] + k;
-  int next_free = 0;
+  const int n = s.cells[a], out = n + k;
+  int next_free = s.end_inside_low[std::size_t(a)] ? 1 : 0;
   for (const SingularPart& p : s.parts) {
     if (p.axis != a) continue;
     const int d = CellStructure::shift_of(p, k);
-    if (p.first + d < next_free || p.last + d >= out) return false;
+    const int end = p.last == n - 1 || !s.end_inside_high[std::size_t(a)] ? out : out - 1;
+    if ((p.first > 0 && p.first + d < next_free) || p.last + d >= end) return false;
     next_free = p.last + d + 1;
   }
   return true;
@@ -144,7 +153,7 @@ bool parts_fit(const CellStructure& s, int a, int k) {
 /// has them (null: built here).
 template <class = void>
 CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const Lattice& grid, double tolerance = 0,
-                             const detail::TriangleSurface* mesh_surface = nullptr) {
+                             const detail::TriangleSurface* mesh_surface = nullptr, bool end_parts = true) {
   CellStructure s;
   s.cells = grid.cells;
   s.tolerance = tolerance > 0 ? tolerance : 1e-3 * bounding_box(mesh).size().norm();
@@ -177,13 +186,59 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     }
     s.extent_low[a] = m0, s.extent_high[a] = m1;
     s.spacing[a] = spacing / v.norm();
+    const auto off_surface = [&](std::size_t k, double shift) {
+      return surface->distance_within(points[k] + shift * v, 2 * s.tolerance) > s.tolerance;
+    };
+    // Where an end plane lies inside its end cell, the cell's periodic part (docs/method.md 1.7: its samples
+    // moved one period inward, and its neighbour's moved outward up to the model's end, lie on the surface)
+    // may reach past it: the end plane is where the end cap is cut most cheaply, not where the end's content
+    // begins. An end slab is compared over its periodic part when that is at least half the cell (an end
+    // cell must be half full, 1.7), and samples moved into its end beyond it are then not compared (the end
+    // is kept by the end caps); with less, the end slab is the end, not a copy, as before.
+    s.end_inside_low[std::size_t(a)] = lo > 0;
+    s.end_inside_high[std::size_t(a)] = hi < double(n);
+    double lo_cmp = lo, hi_cmp = hi;
+    bool low_partial = false, high_partial = false;
+    if (end_parts && n >= 3) {
+      if (lo > 0) {
+        double reach = 0;
+        for (std::size_t k = 0; k < points.size(); ++k) {
+          const double t = canonical[k][a];
+          if (t >= 0 && t < 1 && off_surface(k, 1)) reach = std::max(reach, t);
+          if (t >= 1 && t < 2 && t - 1 > m0 + s.spacing[a] && off_surface(k, -1)) reach = std::max(reach, t - 1);
+        }
+        reach = std::min(reach + s.spacing[a], lo);
+        if (reach <= 0.5) lo_cmp = reach, low_partial = true;
+      }
+      if (hi < double(n)) {
+        const double base = double(n - 1);
+        double reach = 1;
+        for (std::size_t k = 0; k < points.size(); ++k) {
+          const double t = canonical[k][a] - base;
+          if (t >= 0 && t < 1 && off_surface(k, -1)) reach = std::min(reach, t);
+          if (t >= -1 && t < 0 && t + 1 < m1 - base - s.spacing[a] && off_surface(k, 1)) reach = std::min(reach, t + 1);
+        }
+        reach = std::max(reach - s.spacing[a], hi - base);
+        if (reach >= 0.5) hi_cmp = base + reach, high_partial = true;
+      }
+      if (low_partial || high_partial)
+        for (std::vector<std::size_t>& b : slab) b.clear();
+      for (std::size_t k = 0; (low_partial || high_partial) && k < points.size(); ++k) {
+        const double t = canonical[k][a];
+        if (t >= lo_cmp && t < hi_cmp) slab[std::size_t(std::clamp(int(std::floor(t)), 0, n - 1))].push_back(k);
+      }
+    }
     // Slab i's samples moved by `shift` periods lie on the surface, and not in the model's end (where the
-    // other slab is the end, not a copy, and nothing could be compared).
+    // other slab is the end, not a copy, and nothing could be compared); past an end slab's periodic part,
+    // they are not compared.
     const auto lands = [&](int i, int shift) {
       for (const std::size_t k : slab[std::size_t(i)]) {
         const double t = canonical[k][a] + shift;
-        if (t < lo || t >= hi) return false;
-        if (surface->distance_within(points[k] + double(shift) * v, 2 * s.tolerance) > s.tolerance) return false;
+        if (t < lo_cmp || t >= hi_cmp) {
+          if ((t < lo_cmp && low_partial && t >= 0) || (t >= hi_cmp && high_partial && t < double(n))) continue;
+          return false;
+        }
+        if (off_surface(k, double(shift))) return false;
       }
       return true;
     };
@@ -233,7 +288,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       const auto note_off = [&](int from, int shift, bool at_moved) {
         for (const std::size_t k : slab[std::size_t(from)]) {
           const double t = canonical[k][a] + shift;
-          if (t < lo || t >= hi) continue;
+          if (t < lo_cmp || t >= hi_cmp) continue;
           if (surface->distance_within(points[k] + double(shift) * v, 2 * s.tolerance) <= s.tolerance) continue;
           const double at = at_moved ? t : canonical[k][a];
           lo_t = std::min(lo_t, at), hi_t = std::max(hi_t, at);
@@ -258,6 +313,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       p.last = i++;
       const double centre = content_centre(p.first, p.last), to_low = centre - m0, to_high = m1 - centre;
       p.offset = 0.5 * (to_low - to_high);
+      p.precision = s.spacing[a];
       if (p.first == 0)
         p.anchor = PartAnchor::low;
       else if (p.last == n - 1)
