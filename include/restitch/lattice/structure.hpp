@@ -14,7 +14,11 @@
 // that reaches every column) whole periods cannot tell what occurs once: the axis is *undecided* and
 // resized as the paper does, with a warning. Two whole slabs between the end planes that are no copies
 // are the model's two ends, which the anchored ends and the end caps keep: no parts, no warning. The model's ends beyond their end planes are left out (the stitcher keeps them
-// at the ends: end caps), and so are samples that move there. Tolerance: 1e-3 of the bounding-box
+// at the ends: end caps), and so are samples that move there. From three cells on, an end slab whose
+// periodic part (what repeats its neighbour, measured on the surface) is at least half its cell is
+// compared over that part instead: its end plane is where the cap is cut most cheaply, which may lie
+// far below where the end's own content begins (two short drawers over a tall one, the top in the
+// upper drawer's cell); the end still occupies its output end cell (parts_fit). Tolerance: 1e-3 of the bounding-box
 // diagonal, 15 times the coarsest copies the weld closes (6.4e-5, docs/method.md 3) and below any part a
 // modeller places on purpose. A slab that does not repeat holds content that occurs once: consecutive
 // such slabs form a *part*. A part is anchored
