@@ -178,7 +178,7 @@ TEST_CASE("structure: structured families resized from every count to every othe
     bool open;
   };
   for (const Sweep& s : {Sweep{"connector", {4, 5, 6, 7, 8}, true}, Sweep{"cabinet", {2, 3, 4, 5, 6, 7, 8}, true},
-                         Sweep{"radiator", {3, 4, 5, 6, 7, 8}, true}, Sweep{"box_header", {6, 7, 8, 9, 10}, true},
+                         Sweep{"radiator", {2, 3, 4, 5, 6, 7, 8}, true}, Sweep{"box_header", {6, 7, 8, 9, 10}, true},
                          Sweep{"shutter", {5, 6, 7, 8, 9, 10}, true}}) {
     const std::string count = families::generate(s.name)->count_parameters[0];
     for (const int n : s.counts) {
@@ -258,6 +258,35 @@ TEST_CASE("structure: an end cell is compared over its periodic part, so two sho
   CHECK(rh.retarget(steps).ok());
   steps[header.axis] = -most - 1;
   CHECK_FALSE(rh.retarget(steps).ok());
+}
+
+TEST_CASE("lattice: of two cells, each end is the content that fails its own cell's comparison, not its neighbour's",
+          "[structure][samples]") {
+  // Two sections, a valve under one: the valve's cell, moved onto the other, fails at the valve, and so
+  // does the other cell's neighbour test (the valve's cell moved outward): the same samples, the same
+  // move. They are the valve cell's end; the plain cell's end plane stays at its outer cell plane, so it
+  // may be copied into the middle, and two sections grow into one radiator with one valve (docs/method.md
+  // 1.7), at both ends (the sweep above resizes the first from 2 to 8 sections).
+  for (const int valve : {1, 2}) {
+    INFO("valve under section " << valve);
+    const Family f = make("radiator", {{"sections", 2}, {"valve_section", valve}});
+    REQUIRE(f.axis >= 0);
+    const Lattice& L = f.analysis.lattice;
+    REQUIRE(L.cells[f.axis] == 2);
+    CHECK((valve == 1 ? L.end_low[f.axis] > 0.5 : L.end_high[f.axis] < 0.5));
+    CHECK((valve == 1 ? L.end_high[f.axis] == 1.0 : L.end_low[f.axis] == 0.0));
+    Retargeter<> r(f.sample.mesh, f.analysis);
+    REQUIRE(r.status().ok());
+    for (const int k : {1, 3}) {
+      Eigen::Array3i steps = Eigen::Array3i::Zero();
+      steps[f.axis] = k;
+      auto out = r.retarget(steps);
+      REQUIRE(out.ok());
+      CHECK(out->report.warnings.empty());
+      check_in_place(out->mesh,
+                     families::generate("radiator", {{"sections", 2 + k}, {"valve_section", valve == 1 ? 1 : 2 + k}})->mesh);
+    }
+  }
 }
 
 TEST_CASE("structure: a shrink that cannot hold the parts is refused, saying how many steps can be removed",

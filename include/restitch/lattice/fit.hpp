@@ -59,7 +59,10 @@
 // end's own parts (a fence's end post, a panel). Without a candidate the cap
 // is the whole end cell (end_low 1, end_high 0) when there are three cells or
 // more; with two, each end's comparison meets the other end, and the cell
-// plane stays.
+// plane stays. With two cells the neighbour test is left out: the other end
+// cell's samples that fail moved outward are those that fail its own test,
+// its end's content (a valve under the first of two sections), not content
+// this end lacks.
 //
 // Ends reaching across a plane: before the end planes, an end cell whose own
 // part (where it fails the periodic comparison) reaches its inner plane, within
@@ -160,7 +163,7 @@ int choose_end(const std::vector<std::size_t>& cost, int k_phase, int j0, int j1
 /// `tau_canonical` the same across the planes (canonical units).
 template <class Rel>
 double periodic_reach(const PointSet& dense, const PointSetTree& tree, const Eigen::Vector3d& period, Rel rel,
-                      int inward, double filled, double tau_canonical, double tau) {
+                      int inward, double filled, double tau_canonical, double tau, bool neighbour = true) {
   const bool high = inward < 0;
   double reach = high ? 1.0 : 0.0;
   const float tau2 = float(tau * tau);
@@ -175,7 +178,7 @@ double periodic_reach(const PointSet& dense, const PointSetTree& tree, const Eig
     const double r = rel(i);
     if (r >= 0 && r < 1) {  // in the end cell (its overhang aside): the counterpart one period inward
       if (!matched(i, double(inward))) reach = high ? std::min(reach, r) : std::max(reach, r);
-    } else if (high ? (r >= -1 && r < 0) : (r >= 1 && r < 2)) {  // the neighbour: one period outward
+    } else if (neighbour && (high ? (r >= -1 && r < 0) : (r >= 1 && r < 2))) {  // the neighbour: one period outward
       const double at = high ? r + 1 : r - 1;                     // where it would sit in the end cell
       const bool past_end = high ? at > filled - tau_canonical : at < filled + tau_canonical;
       if (!past_end && !matched(i, -double(inward))) reach = high ? std::min(reach, at) : std::max(reach, at);
@@ -300,8 +303,12 @@ Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& norm, cons
     const double lo_rel = lo[a] - start[a], hi_rel = hi[a] - start[a];  // the model's ends, cells from start
     const double high_room = hi_rel - double(cells[a] - 1);  // filled share of the last cell
     if (cells[a] >= 2 && dense.points.rows() > 0) {
-      const double reach_low =
-          detail::periodic_reach(dense, dense_tree(), period, rel_from(start[a]), +1, lo_rel, tau_canonical, tau);
+      // With two cells the neighbour is the other end cell: its samples that fail moved outward are the
+      // ones that fail its own comparison (the same samples, the same move), its own end's content (a valve
+      // under the first of two sections), not content this end lacks. Each is the end of the cell it is in.
+      const bool neighbour = cells[a] >= 3;
+      const double reach_low = detail::periodic_reach(dense, dense_tree(), period, rel_from(start[a]), +1, lo_rel,
+                                                      tau_canonical, tau, neighbour);
       if (lo_rel > margin || reach_low > 0) {
         const double from = std::max(lo_rel, reach_low) + margin;
         const int j = detail::choose_end(cost, k, int(std::floor(from * K)) + 1, K - 1);
@@ -310,7 +317,7 @@ Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& norm, cons
       }
       const double reach_high = detail::periodic_reach(dense, dense_tree(), period,
                                                        rel_from(start[a] + double(cells[a] - 1)), -1, high_room,
-                                                       tau_canonical, tau);
+                                                       tau_canonical, tau, neighbour);
       if (high_room < 1 - margin || reach_high < 1) {
         const double to = std::min(high_room, reach_high) - margin;
         const int j = detail::choose_end(cost, k, 1, int(std::ceil(to * K)) - 1);
