@@ -160,7 +160,8 @@ int choose_end(const std::vector<std::size_t>& cost, int k_phase, int j0, int j1
 /// (low end: its start lo_rel; high end: the filled share). Returns the first failing sample's position
 /// seen from the inner plane (low end: the largest; high end: the smallest), or the outer plane (0 for
 /// the low end, 1 for the high end) when none fails. `tau`: the match distance (normalized units),
-/// `tau_canonical` the same across the planes (canonical units).
+/// `tau_canonical` the same across the planes (canonical units). `neighbour`: also test the neighbour's
+/// samples moved outward (false with two cells, where the neighbour is the other end cell).
 template <class Rel>
 double periodic_reach(const PointSet& dense, const PointSetTree& tree, const Eigen::Vector3d& period, Rel rel,
                       int inward, double filled, double tau_canonical, double tau, bool neighbour = true) {

@@ -154,7 +154,8 @@ bool parts_fit(const CellStructure& s, int a, int k) {
 /// The structure of `mesh` on the label grid `grid` (model units), from the dense samples of `analysis`
 /// (see the file comment). `tolerance`: model units (0: 1e-3 of the bounding-box diagonal). Dummy axes and
 /// axes of one cell have no parts. `mesh_surface`: the mesh's triangles under their tree, when the caller
-/// has them (null: built here).
+/// has them (null: built here). `end_parts`: compare an end slab over its periodic part where that is at
+/// least half its cell (docs/method.md 2.10); false compares end slabs whole (a divisor's check, 1.12).
 template <class = void>
 CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const Lattice& grid, double tolerance = 0,
                              const detail::TriangleSurface* mesh_surface = nullptr, bool end_parts = true) {
