@@ -518,7 +518,8 @@ void bench_detectors(const std::vector<std::string>& families, const std::string
 // generated at m. One letter per resize: '.' exact in place and no more open boundary than the
 // truth, no warning; 'e' the same with a warning (a false alarm); 'o' exact in shape, more open boundary; 'W' a centred part half a period off, which the report
 // warns of (whole periods cannot keep it centred); 'w' wrong, with a warning; 'X' wrong, no warning;
-// 'R' refused; 'A' no principal offset along the family's repeat at n.
+// 'R' refused; 'A' neither a principal offset nor a candidate along the family's repeat at n (a candidate is
+// used as `restitch resize --size` uses it).
 void bench_counts(nlohmann::json& out) {
   std::printf("\n== every count to every other (n = 2..10 modules, rows: from n, columns: to m)\n");
   for (const std::string name : {"connector", "box_header", "cabinet", "radiator", "railing", "shutter", "fence",
@@ -533,6 +534,13 @@ void bench_counts(nlohmann::json& out) {
       auto a = s.ok() ? analyze(s->mesh) : Result<Analysis>(s.status());
       std::string row;
       int axis = -1;
+      if (a.ok()) {  // as `restitch resize --size` does: a candidate along the repeat when no principal offset is
+        std::array<bool, 3> change{{false, false, false}};
+        change[std::size_t(world_axis_of(s->generators[0]))] = true;
+        std::vector<Eigen::Vector3d> offsets;
+        for (const int c : a->candidates_for_axes(change)) offsets.push_back(a->model_units(a->candidates[std::size_t(c)]));
+        if (!offsets.empty() && !promote_offsets(s->mesh, AnalysisOptions<>{}, offsets, *a)) a = error(StatusCode::internal, "");
+      }
       if (a.ok())
         for (int b = 0; b < 3; ++b)
           if (!a->lattice.dummy[b] && std::abs(a->lattice.A.col(b).normalized().dot(s->generators[0].normalized())) >
