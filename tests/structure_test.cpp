@@ -342,6 +342,45 @@ TEST_CASE("structure: an axis where no two neighbouring cells are copies is unde
   CHECK(warned);
 }
 
+TEST_CASE("structure: two whole cells inside the model that are no copies leave the axis undecided, even where an "
+          "end cell holds a whole module",
+          "[structure][samples]") {
+  // Three pins (slot, plain, slot) at a 2.54 pitch in a housing whose wall reaches 2.696 past pin 1: four cells,
+  // the last one's end plane on its inner plane, so its whole module (pin 3 and its slot) is the end, and only
+  // the modules of pins 1 and 2 are whole. They differ by the slot: which of them occurs once is not decided.
+  // Counting whole cells alone (two: "the model's two ends") this was decided, with no part and no warning,
+  // and the 5-pin result lay a pitch off the real part.
+  const Family f = make("connector", {{"pins", 3}, {"pitch", 2.54}, {"wall", 2.696}});
+  Retargeter<> r(f.sample.mesh, f.analysis);
+  REQUIRE(r.structure());
+  const CellStructure& st = *r.structure();
+  REQUIRE(st.cells[f.axis] == 4);
+  REQUIRE(f.analysis.lattice.end_low[f.axis] > 0.5);
+  REQUIRE(f.analysis.lattice.end_high[f.axis] < 0.1);
+  CHECK(st.undecided[std::size_t(f.axis)]);
+  Eigen::Array3i steps = Eigen::Array3i::Zero();
+  steps[f.axis] = 2;
+  auto out = r.retarget(steps);
+  REQUIRE(out.ok());
+  bool warned = false;
+  for (const ResultWarning& w : out->report.warnings) warned = warned || w.check == "undecided axis";
+  CHECK(warned);
+  // Two whole cells that are the model's two ends are not undecided: the fence of 2 pickets along the offset of
+  // its two rails (its principal offset), whose lower cell holds the posts' feet and the upper one the points.
+  const Family two = make("fence", {{"pickets", 2}});
+  REQUIRE(two.analysis.principal.size() == 1);
+  Retargeter<> r2(two.sample.mesh, two.analysis);
+  REQUIRE(r2.structure());
+  int rails = -1;  // the lattice axis along the rails' offset, the one not dummy
+  for (int b = 0; b < 3; ++b)
+    if (!two.analysis.lattice.dummy[b]) rails = b;
+  REQUIRE(rails >= 0);
+  REQUIRE(world_axis_of(two.analysis.lattice.A.col(rails)) == 1);
+  REQUIRE(r2.structure()->cells[rails] == 2);
+  CHECK(r2.structure()->copy_of[rails] == std::vector<int>{-1, -1});
+  CHECK_FALSE(r2.structure()->undecided[rails]);
+}
+
 TEST_CASE("analysis: a module of two alternating parts is found as the pair, not the half the rails repeat",
           "[structure][samples]") {
   for (const int modules : {3, 5}) {

@@ -19,6 +19,9 @@
 //    from each count to the size of every other with the defaults, compared in place with the family generated
 //    at that count (bounding box and surface distance within 1e-4 of the diagonal; open boundary length; results
 //    with open edges that are no copies of the input's)
+// 8. parameters (not with --quick): the families with their lengths drawn within 0.7..1.3 of the defaults (six
+//    seeded sets), from 3, 5 and 7 modules to n - 1 and n + 2, judged as in 7; what is not exact is printed
+//    with its parameters
 //
 //   bench --only detectors     runs section 6 alone
 //
@@ -513,89 +516,174 @@ void bench_detectors(const std::vector<std::string>& families, const std::string
   }
 }
 
+// A generated sample analysed, with a candidate promoted along its repeat where no principal offset runs along
+// it (as `restitch resize --size` does), and the lattice axis along the repeat (-1: none).
+struct Prepared {
+  Result<families::SampleModel> sample = error(StatusCode::internal, "");
+  Result<Analysis> analysis = error(StatusCode::internal, "");
+  int axis = -1;
+};
+
+Prepared prepare(const std::string& name, const std::map<std::string, double>& params) {
+  Prepared p;
+  p.sample = families::generate(name, params);
+  if (!p.sample.ok()) return p;
+  const families::SampleModel& s = *p.sample;
+  p.analysis = analyze(s.mesh);
+  if (!p.analysis.ok()) return p;
+  Analysis& a = *p.analysis;
+  std::array<bool, 3> change{{false, false, false}};
+  change[std::size_t(world_axis_of(s.generators[0]))] = true;
+  std::vector<Eigen::Vector3d> offsets;
+  for (const int c : a.candidates_for_axes(change)) offsets.push_back(a.model_units(a.candidates[std::size_t(c)]));
+  if (!offsets.empty() && !promote_offsets(s.mesh, AnalysisOptions<>{}, offsets, a)) return p;
+  for (int b = 0; b < 3; ++b)
+    if (!a.lattice.dummy[b] &&
+        std::abs(a.lattice.A.col(b).normalized().dot(s.generators[0].normalized())) > std::cos(M_PI / 180))
+      p.axis = b;
+  return p;
+}
+
+// Tallies of resizes judged by `judge`.
+struct Tally {
+  std::map<char, int> letters;
+  int opened = 0, opened_warned = 0;  // resizes with open edges that are no copies of the input's
+};
+
+// The prepared sample resized to the size of `truth` along its repeat (the nearest whole periods), compared in
+// place with it; one letter as in section 7's table.
+char judge(Retargeter<>& r, const families::SampleModel& s, const Mesh& truth, Tally& tally) {
+  const BoundingBox bt = bounding_box(truth);
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();
+  const int w = world_axis_of(s.generators[0]);
+  target[w] = bt.size()[w];
+  auto res = r.retarget_to_size(target, false);
+  if (!res.ok()) return 'R';
+  if (res->report.boundary_edges_new() > 0) {
+    ++tally.opened;
+    tally.opened_warned += !res->report.warnings.empty();
+  }
+  const BoundingBox bo = bounding_box(res->mesh);
+  const double size = bt.size().norm();
+  const bool exact = (bt.min - bo.min).norm() < 1e-4 * size && (bt.max - bo.max).norm() < 1e-4 * size &&
+                     test::symmetric_surface_distance(res->mesh, truth, 0.004 * size) < 1e-4 * size;
+  const double open = test::open_boundary_length(truth);
+  bool centred = false;
+  for (const ResultWarning& x : res->report.warnings) centred = centred || x.check == "part off centre";
+  if (exact)
+    return test::open_boundary_length(res->mesh) > open + 1e-6 * (1 + open) ? 'o'
+           : res->report.warnings.empty()                                   ? '.'
+                                                                            : 'e';
+  return centred ? 'W' : res->report.warnings.empty() ? 'X' : 'w';
+}
+
+nlohmann::json tally_json(const Tally& t) {
+  std::map<char, int> c = t.letters;
+  return {{"exact", c['.'] + c['e']}, {"exact_more_open", c['o']}, {"exact_warned", c['e']},
+          {"centred_off", c['W']},    {"warned", c['w']},          {"silent", c['X']},
+          {"refused", c['R']},        {"no_repeat", c['A']},       {"opened", t.opened},
+          {"opened_warned", t.opened_warned}};
+}
+
+void print_tally(const Tally& t) {
+  std::map<char, int> c = t.letters;
+  std::printf("  exact %d (more open %d, warned %d), centred part off by half a period %d, wrong and warned %d, wrong "
+              "silently %d, refused %d, no repeat found %d; new open edges in %d (warned %d)\n",
+              c['.'] + c['e'], c['o'], c['e'], c['W'], c['w'], c['X'], c['R'], c['A'], t.opened, t.opened_warned);
+}
+
+const std::vector<std::string>& count_families() {
+  static const std::vector<std::string> f{"connector", "box_header", "cabinet", "radiator", "railing", "shutter",
+                                          "fence", "pin_header", "bookshelf", "facade", "facade_sheared", "tube_rail"};
+  return f;
+}
+
 // Section 7: each family at n = 2..10 modules resized to the size of the family at every other count m along
 // the repeat (the nearest whole periods, Retargeter::retarget_to_size), compared in place with the family
 // generated at m. One letter per resize: '.' exact in place and no more open boundary than the
-// truth, no warning; 'e' the same with a warning (a false alarm); 'o' exact in shape, more open boundary; 'W' a centred part half a period off, which the report
-// warns of (whole periods cannot keep it centred); 'w' wrong, with a warning; 'X' wrong, no warning;
-// 'R' refused; 'A' neither a principal offset nor a candidate along the family's repeat at n (a candidate is
-// used as `restitch resize --size` uses it).
+// truth, no warning; 'e' the same with a warning (a false alarm); 'o' exact in shape, more open boundary; 'W' a
+// centred part half a period off, which the report warns of (whole periods cannot keep it centred); 'w' wrong,
+// with a warning; 'X' wrong, no warning; 'R' refused; 'A' neither a principal offset nor a candidate along the
+// family's repeat at n (a candidate is used as `restitch resize --size` uses it).
 void bench_counts(nlohmann::json& out) {
   std::printf("\n== every count to every other (n = 2..10 modules, rows: from n, columns: to m)\n");
-  for (const std::string name : {"connector", "box_header", "cabinet", "radiator", "railing", "shutter", "fence",
-                                 "pin_header", "bookshelf", "facade", "facade_sheared", "tube_rail"}) {
+  for (const std::string& name : count_families()) {
     const std::string count = families::generate(name)->count_parameters[0];
-    std::map<char, int> tally;
-    int opened = 0, opened_warned = 0;  // resizes with open edges that are no copies of the input's
+    Tally tally;
     nlohmann::json rows = nlohmann::json::array();
     std::printf("%s (%s):\n", name.c_str(), count.c_str());
     for (int n = 2; n <= 10; ++n) {
-      auto s = families::generate(name, {{count, n}});
-      auto a = s.ok() ? analyze(s->mesh) : Result<Analysis>(s.status());
-      std::string row;
-      int axis = -1;
-      if (a.ok()) {  // as `restitch resize --size` does: a candidate along the repeat when no principal offset is
-        std::array<bool, 3> change{{false, false, false}};
-        change[std::size_t(world_axis_of(s->generators[0]))] = true;
-        std::vector<Eigen::Vector3d> offsets;
-        for (const int c : a->candidates_for_axes(change)) offsets.push_back(a->model_units(a->candidates[std::size_t(c)]));
-        if (!offsets.empty() && !promote_offsets(s->mesh, AnalysisOptions<>{}, offsets, *a)) a = error(StatusCode::internal, "");
-      }
-      if (a.ok())
-        for (int b = 0; b < 3; ++b)
-          if (!a->lattice.dummy[b] && std::abs(a->lattice.A.col(b).normalized().dot(s->generators[0].normalized())) >
-                                          std::cos(M_PI / 180))
-            axis = b;
+      Prepared p = prepare(name, {{count, n}});
       std::optional<Retargeter<>> r;
-      if (axis >= 0) r.emplace(s->mesh, *a);
+      if (p.axis >= 0) r.emplace(p.sample->mesh, *p.analysis);
+      std::string row;
       for (int m = 2; m <= 10; ++m) {
-        char c = '-';
-        if (m != n && axis < 0) c = 'A';
-        if (m != n && axis >= 0) {
-          // Asked as a user would: the size of the part at m along the repeat's world axis.
-          const Mesh truth = families::generate(name, {{count, m}})->mesh;
-          const BoundingBox bt = bounding_box(truth);
-          Eigen::Vector3d target = Eigen::Vector3d::Zero();
-          const int w = world_axis_of(s->generators[0]);
-          target[w] = bt.size()[w];
-          auto res = r->retarget_to_size(target, false);
-          if (!res.ok()) {
-            c = 'R';
-          } else {
-            if (res->report.boundary_edges_new() > 0) {
-              ++opened;
-              opened_warned += !res->report.warnings.empty();
-            }
-            const BoundingBox bo = bounding_box(res->mesh);
-            const double size = bt.size().norm();
-            const bool exact = (bt.min - bo.min).norm() < 1e-4 * size && (bt.max - bo.max).norm() < 1e-4 * size &&
-                               test::symmetric_surface_distance(res->mesh, truth, 0.004 * size) < 1e-4 * size;
-            const double open = test::open_boundary_length(truth);
-            bool centred = false;
-            for (const ResultWarning& w : res->report.warnings) centred = centred || w.check == "part off centre";
-            if (exact)
-              c = test::open_boundary_length(res->mesh) > open + 1e-6 * (1 + open) ? 'o'
-                  : res->report.warnings.empty()                                   ? '.'
-                                                                                   : 'e';
-            else
-              c = centred ? 'W' : res->report.warnings.empty() ? 'X' : 'w';
-          }
-        }
-        if (m != n) ++tally[c];
+        const char c = m == n ? '-' : p.axis < 0 ? 'A' : judge(*r, *p.sample, families::generate(name, {{count, m}})->mesh, tally);
+        if (m != n) ++tally.letters[c];
         row += c;
       }
       std::printf("  %2d  %s\n", n, row.c_str());
       rows.push_back(row);
     }
-    std::printf("  exact %d (more open %d, warned %d), centred part off by half a period %d, wrong and warned %d, wrong "
-                "silently %d, refused %d, no repeat found %d; new open edges in %d (warned %d)\n",
-                tally['.'] + tally['e'], tally['o'], tally['e'], tally['W'], tally['w'], tally['X'], tally['R'], tally['A'],
-                opened, opened_warned);
-    out["counts"][name] = {{"rows", rows}, {"exact", tally['.'] + tally['e']}, {"exact_more_open", tally['o']},
-                           {"exact_warned", tally['e']},
-                           {"centred_off", tally['W']}, {"warned", tally['w']}, {"silent", tally['X']},
-                           {"refused", tally['R']}, {"no_repeat", tally['A']}, {"opened", opened},
-                           {"opened_warned", opened_warned}};
+    print_tally(tally);
+    out["counts"][name] = tally_json(tally);
+    out["counts"][name]["rows"] = rows;
+  }
+}
+
+// Section 8: the families away from their defaults. Per family, six parameter sets (seeds 1..6): every length
+// parameter drawn uniformly from 0.7 to 1.3 times its default (clamped to its range; counts and detail kept),
+// each generated at 3, 5 and 7 modules and resized to the size of the family at n - 1 and n + 2 modules, judged
+// as in section 7. A set the family refuses at a count (parameters that do not fit together) is skipped there.
+// Every result that is not exact is printed with its parameters, for `restitch sample`.
+void bench_parameters(nlohmann::json& out) {
+  std::printf("\n== other parameters (6 sets of lengths within 0.7..1.3 of the defaults; from 3, 5, 7 modules to n - 1, n + 2)\n");
+  for (const std::string& name : count_families()) {
+    families::SampleInfo info;
+    for (const families::SampleInfo& i : families::catalog())
+      if (i.name == name) info = i;
+    const std::string count = families::generate(name)->count_parameters[0];
+    Tally tally;
+    int skipped = 0;
+    std::printf("%s:\n", name.c_str());
+    for (unsigned seed = 1; seed <= 6; ++seed) {
+      std::mt19937 rng(seed);
+      std::uniform_real_distribution<double> factor(0.7, 1.3);
+      std::map<std::string, double> params;
+      std::string args;
+      for (const families::Parameter& q : info.parameters) {
+        if (q.integer) continue;
+        params[q.name] = std::clamp(q.value * factor(rng), q.min, q.max);
+        char b[96];
+        std::snprintf(b, sizeof b, " --%s %.6g", q.name.c_str(), params[q.name]);
+        args += b;
+      }
+      for (const int n : {3, 5, 7}) {
+        std::map<std::string, double> at = params;
+        at[count] = n;
+        Prepared p = prepare(name, at);
+        if (!p.sample.ok()) {
+          ++skipped;
+          continue;
+        }
+        std::optional<Retargeter<>> r;
+        if (p.axis >= 0) r.emplace(p.sample->mesh, *p.analysis);
+        for (const int m : {n - 1, n + 2}) {
+          at[count] = m;
+          auto truth = families::generate(name, at);
+          if (!truth.ok()) {
+            ++skipped;
+            continue;
+          }
+          const char c = p.axis < 0 ? 'A' : judge(*r, *p.sample, truth->mesh, tally);
+          ++tally.letters[c];
+          if (c != '.' && c != 'e') std::printf("  %c  --%s %d to %d:%s\n", c, count.c_str(), n, m, args.c_str());
+        }
+      }
+    }
+    print_tally(tally);
+    out["parameters"][name] = tally_json(tally);
+    out["parameters"][name]["skipped"] = skipped;
   }
 }
 
@@ -621,7 +709,7 @@ int main(int argc, char** argv) {
     else
       return std::fprintf(stderr,
                           "usage: bench [--quick] [--json FILE] [--models DIR] [--only "
-                          "analysis|shot|comparison|scaling|synthetic|detectors|counts]\n"),
+                          "analysis|shot|comparison|scaling|synthetic|detectors|counts|parameters]\n"),
              2;
   }
   const auto run = [&](const char* section) { return only.empty() || only == section; };
@@ -638,6 +726,7 @@ int main(int argc, char** argv) {
   if (run("synthetic")) bench_synthetic(quick, out);
   if (run("detectors")) bench_detectors(families, models, quick, out);
   if (run("counts") && (!quick || only == "counts")) bench_counts(out);  // minutes: not in --quick
+  if (run("parameters") && (!quick || only == "parameters")) bench_parameters(out);  // minutes: not in --quick
   std::ofstream(json_path) << out.dump(2) << "\n";
   std::printf("\nwrote %s\n", json_path.c_str());
   return 0;

@@ -627,10 +627,12 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       complete_with_dummies(axes, options.dummy_length);
       Result<LatticeFit> fit = fit_lattice(mesh, a.normalization, a.dense, axes, options.lattice);
       if (!fit) return fit.status();
-      // A divisor is a guess of the division, taken on proof: its slabs are compared whole. An end slab
+      // A divisor or a multiple is a guess, taken on proof: its slabs are compared whole. An end slab
       // compared over its periodic part (2.10) matches its neighbour there by construction, which proves no
-      // division (half a bookshelf's column: the side panel's cell, panel aside, is the next half column).
-      const CellStructure there = cell_structure(mesh, a, fit->lattice, 0, surface.get(), f >= 0);
+      // division (half a bookshelf's column: the side panel's cell, panel aside, is the next half column)
+      // and no multiple (of a connector's three modules slot, plain, slot, the pair of the last two, its end
+      // past its periodic part, against the first two).
+      const CellStructure there = cell_structure(mesh, a, fit->lattice, 0, surface.get(), f == 0);
       const double got = repeated_length(there, fit->lattice, k);
       // The parts along k inside the model (not holding an end slab: how the ends fall differs between
       // lattices, a shutter's bottom rail takes two cells of its slat pitch and one of six pitches).

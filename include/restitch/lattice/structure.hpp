@@ -253,19 +253,36 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         if ((e == 0 || e == n - 1) && slab[std::size_t(e)].empty()) return false;
       return lands(i, j - i) && lands(j, i - j);
     };
+    // Neighbours i and i + 1 whose content does not change along a (each one's samples, moved toward the
+    // other by a shift no period can be, land on the surface where compared: every surface in them runs
+    // along a, like a housing's plain wall past its last pin) are copies at any shift: being copies says
+    // nothing of the period, so they are not taken as repeating (docs/method.md 2.10). The shift: half a
+    // sample spacing (a period is at least a spacing, 1.12), and at least twice the tolerance, so that a
+    // surface across a moved by it lands off itself.
+    const double slide = std::max(0.5 * spacing, 2 * s.tolerance) / v.norm();
+    const auto plain = [&](int i) {
+      for (const auto& [from, shift] : {std::pair<int, double>{i, slide}, std::pair<int, double>{i + 1, -slide}})
+        for (const std::size_t k : slab[std::size_t(from)]) {
+          const double t = canonical[k][a] + shift;
+          if (t >= lo_cmp && t < hi_cmp && off_surface(k, shift)) return false;
+        }
+      return true;
+    };
     std::vector<int>& copy_of = s.copy_of[std::size_t(a)];
     copy_of.assign(std::size_t(n), -1);
     for (int i = 0; i + 1 < n; ++i)
-      if (copies(i, i + 1)) {
+      if (copies(i, i + 1) && !plain(i)) {
         if (copy_of[std::size_t(i)] < 0) copy_of[std::size_t(i)] = i + 1;
         copy_of[std::size_t(i + 1)] = i;
       }
     if (std::count(copy_of.begin(), copy_of.end(), -1) == n) {  // nothing repeats next door
-      // Whole slabs between the end planes: two are the model's two ends, which the anchored ends and end
-      // caps keep (docs/method.md 2.3, 3); from three on, the axis is undecided.
-      int whole = 0;
-      for (int i = 0; i < n; ++i) whole += i >= lo - 1e-9 && i + 1 <= hi + 1e-9;
-      s.undecided[std::size_t(a)] = whole >= 3;
+      // Whole slabs between the end planes (they are consecutive): two end slabs are the model's two ends,
+      // which the anchored ends and end caps keep (docs/method.md 2.3, 3); two whole slabs that are no
+      // copies, one of them inside the model, or three, leave the axis undecided.
+      int whole = 0, whole_inside = 0;
+      for (int i = 0; i < n; ++i)
+        if (i >= lo - 1e-9 && i + 1 <= hi + 1e-9) ++whole, whole_inside += i > 0 && i < n - 1;
+      s.undecided[std::size_t(a)] = whole >= 3 || (whole == 2 && whole_inside > 0);
       continue;
     }
     // A slab that repeats next door is periodic. One that does not may still be a copy of a periodic one
