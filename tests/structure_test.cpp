@@ -381,6 +381,45 @@ TEST_CASE("structure: two whole cells inside the model that are no copies leave 
   CHECK_FALSE(r2.structure()->undecided[rails]);
 }
 
+TEST_CASE("structure: cells of plain wall past the last pin are not taken as repeating", "[structure][samples]") {
+  // A connector whose housing reaches 4.04 past pin 1 and past its last pin at a 1.833 pitch (its openings 1.2
+  // wide, to fit): two cells of plain wall at each end, copies at any shift. Taken as repeating, they made the
+  // pins one part at the low end, and 3 pins grown to 5 added wall at the high end, without a warning; or, read
+  // as a multiple, twice the pitch became the period. With 3 pins (slot, plain, slot) nothing else repeats:
+  // undecided. With 5 only the plain pins repeat, and the resize is the family's at 4 and 7 pins, in place.
+  const std::map<std::string, double> lengths{{"pitch", 1.833}, {"wall", 4.041}, {"opening", 1.2}};
+  const auto with = [&](int pins) {
+    std::map<std::string, double> p = lengths;
+    p["pins"] = pins;
+    return p;
+  };
+  const Family three = make("connector", with(3));
+  REQUIRE(three.axis >= 0);
+  CHECK(std::abs(three.analysis.lattice.A.col(three.axis).norm() - 1.833) < 1e-3);
+  Retargeter<> r3(three.sample.mesh, three.analysis);
+  REQUIRE(r3.structure());
+  CHECK(r3.structure()->undecided[std::size_t(three.axis)]);
+  const Family five = make("connector", with(5));
+  REQUIRE(five.axis >= 0);
+  Retargeter<> r5(five.sample.mesh, five.analysis);
+  REQUIRE(r5.structure());
+  const std::vector<int>& copy_of = r5.structure()->copy_of[std::size_t(five.axis)];
+  for (int i = 0; i < int(copy_of.size()); ++i) {
+    INFO("cell " << i);
+    // Only the modules of the three plain pins (2, 3, 4 of 5) repeat: no end cell, no cell of plain wall.
+    CHECK((copy_of[std::size_t(i)] >= 0) == (i >= slab_of(five, 1) && i <= slab_of(five, 3)));
+  }
+  for (const int m : {4, 7}) {
+    INFO(m << " pins");
+    Eigen::Array3i steps = Eigen::Array3i::Zero();
+    steps[five.axis] = m - 5;
+    auto out = r5.retarget(steps);
+    REQUIRE(out.ok());
+    CHECK(out->report.warnings.empty());
+    check_in_place(out->mesh, families::generate("connector", with(m))->mesh);
+  }
+}
+
 TEST_CASE("analysis: a module of two alternating parts is found as the pair, not the half the rails repeat",
           "[structure][samples]") {
   for (const int modules : {3, 5}) {
