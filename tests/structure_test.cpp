@@ -64,6 +64,17 @@ void check_in_place(const Mesh& out, const Mesh& truth) {
   CHECK(test::open_boundary_length(out) <= open + 1e-6 * (1 + open));
 }
 
+// Whether `r` grown by two steps along lattice axis a is warned with `check`.
+bool grown_warned(Retargeter<>& r, int a, const std::string& check) {
+  Eigen::Array3i steps = Eigen::Array3i::Zero();
+  steps[a] = 2;
+  auto out = r.retarget(steps);
+  REQUIRE(out.ok());
+  for (const ResultWarning& w : out->report.warnings)
+    if (w.check == check) return true;
+  return false;
+}
+
 bool centred_part_warned(const RetargetReport& r) {
   for (const ResultWarning& w : r.warnings)
     if (w.check == "part off centre") return true;
@@ -333,13 +344,7 @@ TEST_CASE("structure: an axis where no two neighbouring cells are copies is unde
   REQUIRE(r.structure());
   CHECK(r.structure()->undecided[std::size_t(f.axis)]);
   CHECK(r.structure()->parts.empty());
-  Eigen::Array3i steps = Eigen::Array3i::Zero();
-  steps[f.axis] = 2;
-  auto out = r.retarget(steps);
-  REQUIRE(out.ok());
-  bool warned = false;
-  for (const ResultWarning& w : out->report.warnings) warned = warned || w.check == "undecided axis";
-  CHECK(warned);
+  CHECK(grown_warned(r, f.axis, "undecided axis"));
 }
 
 TEST_CASE("structure: two whole cells inside the model that are no copies leave the axis undecided, even where an "
@@ -358,13 +363,7 @@ TEST_CASE("structure: two whole cells inside the model that are no copies leave 
   REQUIRE(f.analysis.lattice.end_low[f.axis] > 0.5);
   REQUIRE(f.analysis.lattice.end_high[f.axis] < 0.1);
   CHECK(st.undecided[std::size_t(f.axis)]);
-  Eigen::Array3i steps = Eigen::Array3i::Zero();
-  steps[f.axis] = 2;
-  auto out = r.retarget(steps);
-  REQUIRE(out.ok());
-  bool warned = false;
-  for (const ResultWarning& w : out->report.warnings) warned = warned || w.check == "undecided axis";
-  CHECK(warned);
+  CHECK(grown_warned(r, f.axis, "undecided axis"));
   // Two whole cells that are the model's two ends are not undecided: the fence of 2 pickets along the offset of
   // its two rails (its principal offset), whose lower cell holds the posts' feet and the upper one the points.
   const Family two = make("fence", {{"pickets", 2}});
