@@ -9,11 +9,14 @@
 // copy is triangulated). A slab *repeats* when a neighbour is a copy of it (it is periodic), or when a
 // periodic slab farther away is (a box header's plain column between the shroud's end and a notched
 // column). So a slot next to each end, whose modules are copies of each other but not of the periodic
-// plain modules between them, occurs once at each end. Along an axis of three cells or more where no
-// two neighbours are copies (three modules, a slot next to each end around one plain one; a key notch
-// that reaches every column) whole periods cannot tell what occurs once: the axis is *undecided* and
-// resized as the paper does, with a warning. Two whole slabs between the end planes that are no copies
-// are the model's two ends, which the anchored ends and the end caps keep: no parts, no warning. The model's ends beyond their end planes are left out (the stitcher keeps them
+// plain modules between them, occurs once at each end. Neighbours whose content does not change along the
+// axis (a housing's plain wall past its last pin: copies at any shift, so no sign of the period) are not
+// taken as repeating. Along an axis of three cells or more where no two neighbours are copies (three
+// modules, a slot next to each end around one plain one; a key notch that reaches every column) whole
+// periods cannot tell what occurs once: the axis is *undecided* and resized as the paper does, with a
+// warning, from three whole slabs between the end planes, or two of which one is inside the model. Two
+// whole end slabs that are no copies are the model's two ends, which the anchored ends and the end caps
+// keep: no parts, no warning. The model's ends beyond their end planes are left out (the stitcher keeps them
 // at the ends: end caps), and so are samples that move there. From three cells on, an end slab whose
 // periodic part (what repeats its neighbour, measured on the surface) is at least half its cell is
 // compared over that part instead: its end plane is where the cap is cut most cheaply, which may lie
@@ -34,8 +37,9 @@
 // places the model so the content at its origin stays where it was (restitch/placement.hpp).
 //
 // Cost: an AABB tree over the triangles (O(#F log #F)), then bounded point-to-surface queries: two per
-// dense sample and axis for the neighbours, and a test that stops at its first sample off the surface
-// per other slab a slab that does not repeat next door is compared with. Once per Retargeter.
+// dense sample and axis for the neighbours, one per sample of two neighbours found copies (the plain
+// test), and a test that stops at its first sample off the surface per other slab a slab that does not
+// repeat next door is compared with. Once per Retargeter.
 #pragma once
 
 #include <Eigen/Core>
