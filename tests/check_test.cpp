@@ -40,47 +40,51 @@ Mesh joined(const Mesh& a, const Mesh& b) {
   return m;
 }
 
-// Solves, then gives every output cell of the middle slab along `axis` the label farthest from its own: a
-// wrong label forced.
-struct WrongLabelSolver {
-  int axis = 0;
+// Solves, then relabels every output cell x with `relabel(problem, x, label)`: a wrong labelling forced.
+template <class Relabel>
+struct RelabelSolver {
+  Relabel relabel;
   template <class P>
   Status solve(const P& problem, std::vector<int>& labels, SolveReport& report, const Progress& progress) const {
     RESTITCH_TRY(AlphaExpansion<>().solve(problem, labels, report, progress));
-    const CellGrid& out = problem.out_grid();
-    const int mid = out.dims[axis] / 2;
-    for (std::int64_t x = 0; x < out.size(); ++x) {
-      if (out.cell(x)[axis] != mid) continue;
-      const Eigen::Array3i d = problem.labels()[std::size_t(labels[std::size_t(x)])];
-      int best = labels[std::size_t(x)];
-      for (int l = 0; l < problem.label_count(); ++l)
-        if (std::abs(problem.labels()[std::size_t(l)][axis] - d[axis]) >
-            std::abs(problem.labels()[std::size_t(best)][axis] - d[axis]))
-          best = l;
-      labels[std::size_t(x)] = best;
-    }
+    for (std::int64_t x = 0; x < problem.out_grid().size(); ++x)
+      labels[std::size_t(x)] = relabel(problem, x, labels[std::size_t(x)]);
     return {};
   }
 };
 
-// Copies the nearer end along `axis` (label 0 in the low half of the output, the largest shift in the high
-// half), whatever the energy: a grown model as two copies of the input end to end.
-struct EndToEndSolver {
+// Every output cell of the middle slab along `axis` gets the label farthest from its own.
+struct FarthestInMiddle {
   int axis = 0;
   template <class P>
-  Status solve(const P& problem, std::vector<int>& labels, SolveReport& report, const Progress& progress) const {
-    RESTITCH_TRY(AlphaExpansion<>().solve(problem, labels, report, progress));
-    const CellGrid& out = problem.out_grid();
-    int low = 0, high = 0;
-    for (int l = 0; l < problem.label_count(); ++l) {
-      const Eigen::Array3i d = problem.labels()[std::size_t(l)];
-      if (d[axis] < problem.labels()[std::size_t(low)][axis]) low = l;
-      if (d[axis] > problem.labels()[std::size_t(high)][axis]) high = l;
-    }
-    for (std::int64_t x = 0; x < out.size(); ++x) labels[std::size_t(x)] = 2 * out.cell(x)[axis] < out.dims[axis] ? low : high;
-    return {};
+  int operator()(const P& problem, std::int64_t x, int label) const {
+    if (problem.out_grid().cell(x)[axis] != problem.out_grid().dims[axis] / 2) return label;
+    const int d = problem.labels()[std::size_t(label)][axis];
+    int best = label;
+    for (int l = 0; l < problem.label_count(); ++l)
+      if (std::abs(problem.labels()[std::size_t(l)][axis] - d) > std::abs(problem.labels()[std::size_t(best)][axis] - d))
+        best = l;
+    return best;
   }
 };
+using WrongLabelSolver = RelabelSolver<FarthestInMiddle>;
+
+// The nearer end along `axis`: the smallest shift in the low half of the output, the largest in the high
+// half, whatever the energy: a grown model as two copies of the input end to end.
+struct NearerEnd {
+  int axis = 0;
+  template <class P>
+  int operator()(const P& problem, std::int64_t x, int) const {
+    const bool low_half = 2 * problem.out_grid().cell(x)[axis] < problem.out_grid().dims[axis];
+    int pick = 0;
+    for (int l = 1; l < problem.label_count(); ++l) {
+      const int d = problem.labels()[std::size_t(l)][axis], best = problem.labels()[std::size_t(pick)][axis];
+      if (low_half ? d < best : d > best) pick = l;
+    }
+    return pick;
+  }
+};
+using EndToEndSolver = RelabelSolver<NearerEnd>;
 
 // The default stitcher on a grid whose planes lie `offset` of a cell further along `axis`: every seam off its
 // plane.
@@ -171,7 +175,7 @@ TEST_CASE("check: flags the broken results and none of the exact ones on the gen
           axis = b;
       REQUIRE(axis >= 0);
       Retargeter<> solved(sample->mesh, *a);
-      Retargeter<LatticeLabels, WrongLabelSolver> wrong(sample->mesh, *a, {}, {}, WrongLabelSolver{axis});
+      Retargeter<LatticeLabels, WrongLabelSolver> wrong(sample->mesh, *a, {}, {}, WrongLabelSolver{FarthestInMiddle{axis}});
       Retargeter<LatticeLabels, AlphaExpansion<>, MovedSeamStitcher> moved(sample->mesh, *a, {}, {}, {},
                                                                            MovedSeamStitcher{axis});
       for (const int m : s.counts) {
@@ -232,7 +236,7 @@ TEST_CASE("check: copies glued end cap to end cap are an unmatched seam; an exac
   REQUIRE(steps.ok());
   int axis = 0;
   while (axis < 2 && (*steps)[axis] == 0) ++axis;
-  Retargeter<LatticeLabels, EndToEndSolver> glued(two->mesh, *a, {}, {}, EndToEndSolver{axis});
+  Retargeter<LatticeLabels, EndToEndSolver> glued(two->mesh, *a, {}, {}, EndToEndSolver{NearerEnd{axis}});
   Retargeter<> r(two->mesh, *a);
   auto out = glued.retarget(*steps);
   REQUIRE(out.ok());
