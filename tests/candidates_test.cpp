@@ -10,6 +10,8 @@
 #include "restitch/families/families.hpp"
 #include "restitch/retarget.hpp"
 
+#include "support/mesh_builders.hpp"
+#include "support/surface_distance.hpp"
 #include "support/sampled_shapes.hpp"
 
 using namespace restitch;
@@ -55,6 +57,11 @@ TEST_CASE("every dominant offset records the tests it ran, and significance is e
       CHECK(d.tests.front().name == "votes");
       // Two groups, each stopping at its first failure: the whole-surface tests, then (when they
       // failed and the peak had votes) the part tests, named part_... (offsets/part.hpp).
+      if (d.from_vertices()) {  // found by the vertices, not the detector (method.md 1.14): passed its checks
+        CHECK(!d.significant);
+        for (const OffsetTest& t : d.tests) CHECK((t.passed && t.name.rfind("vertex_", 0) == 0));
+        continue;
+      }
       std::vector<OffsetTest> whole, part, pair;
       for (const OffsetTest& t : d.tests) {
         CHECK(t.passed == (t.at_most ? t.value <= t.threshold : t.value >= t.threshold));
@@ -166,4 +173,71 @@ TEST_CASE("promote_offsets: an empty list restores the detected offsets; bad req
   CHECK(a.principal == detected.principal);
   CHECK(a.promoted.empty());
   for (const DominantOffset& d : a.dominant) CHECK(!d.promoted);
+}
+
+TEST_CASE("a 2-picket fence: no vote for its picket pitch, but its vertices repeat at it, a candidate that resizes it "
+          "into the real 3- to 5-picket fences",
+          "[candidates][retarget]") {
+  // Its pickets' features match each other up and down their own uniform sides, and its rails are one pair
+  // across: the matching casts no vote for the 0.15 m pitch along x (docs/method.md 1.14).
+  const auto two = families::generate("fence", {{"pickets", 2}});
+  REQUIRE(two.ok());
+  const Vector3d pitch = two->generators[0];
+  Analysis a = *analyze(two->mesh);
+  for (const Vector3d& p : a.principal_model_units()) CHECK(world_axis_of(p) != 0);
+  const std::vector<int> use = a.candidates_for_axes({{true, false, false}});
+  REQUIRE(use.size() == 1);
+  const RepeatCandidate& c = a.candidates[std::size_t(use[0])];
+  CHECK(c.reason == "vertices");
+  CHECK(c.copies >= 2);
+  CHECK(recovered(pitch, {a.model_units(c)}, 1e-5, 0.01));
+  REQUIRE(c.dominant >= 0);
+  const DominantOffset& d = a.dominant[std::size_t(c.dominant)];
+  CHECK(d.votes == 0);
+  CHECK(d.from_vertices());
+  // Promoted as `restitch resize --size` does: the candidate's offset in model units.
+  REQUIRE(promote_offsets(two->mesh, AnalysisOptions<>{}, {a.model_units(c)}, a).ok());
+  REQUIRE(!a.principal.empty());
+  CHECK(recovered(pitch, {a.principal_model_units()[0]}, 1e-5, 0.01));
+  Retargeter<> r(two->mesh, a);
+  REQUIRE(r.status().ok());
+  for (const int more : {1, 2, 3}) {
+    INFO(more << " more pickets");
+    const auto want = families::generate("fence", {{"pickets", 2 + more}});
+    std::vector<int> steps(a.principal.size(), 0);
+    steps[0] = more;
+    const auto out = r.retarget(*lattice_steps_from_principal(a, steps));
+    REQUIRE(out.ok());
+    CHECK(validate(out->mesh).ok());
+    const BoundingBox box = bounding_box(out->mesh), real = bounding_box(want->mesh);
+    CHECK((box.min - real.min).norm() < 1e-4);
+    CHECK((box.max - real.max).norm() < 1e-4);
+    // The same fence: every vertex of the real one is in the result, and their surfaces lie on each other
+    // (the pickets in place, no part twice; seams cut the rails where the copies continue each other).
+    CHECK(max_nearest(want->mesh.V, out->mesh.V) < 1e-4);
+    CHECK(symmetric_surface_distance(out->mesh, want->mesh, 0.01) < 1e-4 * (real.max - real.min).norm());
+  }
+}
+
+TEST_CASE("a repeat of the vertices that is a detail of one part (three ribs at one end of a long bar) is no "
+          "candidate",
+          "[candidates][analysis]") {
+  Mesh m;
+  add_box(m, Vector3d(0, 0, 0), Vector3d(10, 1, 1));
+  for (int i = 0; i < 3; ++i) add_box(m, Vector3d(1 + 0.3 * i, 1, 0.2), Vector3d(1.1 + 0.3 * i, 1.2, 0.8));
+  AnalysisOptions<> options;
+  const Result<Analysis> a = analyze(m, options);
+  REQUIRE(a.ok());
+  for (const RepeatCandidate& c : a->candidates) CHECK(c.reason != "vertices");
+  for (const Vector3d& p : a->principal_model_units()) CHECK(!recovered(Vector3d(0.3, 0, 0), {p}, 1e-3, 0.1));
+  // The same ribs along the whole bar are its content: then the vertices' repeat is a candidate (or the
+  // matching finds the rib pitch itself).
+  Mesh full;
+  add_box(full, Vector3d(0, 0, 0), Vector3d(10, 1, 1));
+  for (int i = 0; i < 30; ++i) add_box(full, Vector3d(0.1 + 0.3 * i, 1, 0.2), Vector3d(0.2 + 0.3 * i, 1.2, 0.8));
+  const Result<Analysis> b = analyze(full, options);
+  REQUIRE(b.ok());
+  std::vector<Vector3d> found = b->principal_model_units();
+  for (const RepeatCandidate& c : b->candidates) found.push_back(b->model_units(c));
+  CHECK(recovered(Vector3d(0.3, 0, 0), found, 1e-4, 0.01));
 }

@@ -32,7 +32,9 @@ export function peakExplanation(analysis, i, units, longest) {
   const tests = (d.tests || []).map((t) =>
     [t.name, `${fmt(t.value, 4)} ${t.at_most ? '≤' : '≥'} ${fmt(t.threshold, 4)}`, t.passed ? 'passed' : 'FAILED']);
   const notes = [];
-  notes.push(d.rejected_by ? `rejected by ${d.rejected_by}` : 'significant: passed every test');
+  notes.push(d.rejected_by ? `rejected by ${d.rejected_by}`
+    : d.significant ? 'significant: passed every test'
+    : 'a repeat of the vertices along an axis the matching found nothing on (no votes)');
   if (d.divisor > 1) notes.push(`divisor ${d.divisor}: the peak spans ${d.divisor} periods, this is one`);
   else notes.push('divisor 1');
   notes.push(d.promoted ? 'promoted: made principal on request' : 'not promoted');

@@ -31,6 +31,17 @@ test('a peak explains each test, the rejecting one, the divisor, the promotion a
                              'promoted: made principal on request']);
 });
 
+test('a repeat of the vertices (no votes, no test failed, not significant) says so', () => {
+  const withVertices = {
+    dominant_offsets: [{ offset: [0.15, 0, 0], votes: 0, divisor: 1, promoted: false, significant: false,
+                         rejected_by: null, tests: [test_('vertex_lag', 174, 8), test_('vertex_copies', 2, 2)] }],
+    candidates: [{ offset: [0.15, 0, 0], copies: 2, reason: 'vertices', dominant: 0 }],
+  };
+  const e = peakExplanation(withVertices, 0, 'm', 0.5);
+  assert.deepEqual(e.notes, ['a repeat of the vertices along an axis the matching found nothing on (no votes)',
+                             'divisor 1', 'not promoted', 'candidate 1 (vertices, 2 copies): click to resize along it']);
+});
+
 test('a candidate reads offset, length, copies and reason', () => {
   assert.equal(candidateLabel(analysis.candidates[0], 'mm', 11.5), '(2.54, 0.00, 0.00) mm, 2.54 long, 2 copies, pair');
 });

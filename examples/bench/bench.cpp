@@ -22,6 +22,8 @@
 // 8. parameters (not with --quick): the families with their lengths drawn within 0.7..1.3 of the defaults (six
 //    seeded sets), from 3, 5 and 7 modules to n - 1 and n + 2, judged as in 7; what is not exact is printed
 //    with its parameters
+// 9. vertex_repeats (not with --quick): the analysis time without and with the repeats of the vertices
+//    (docs/method.md 1.14), each family at its defaults and each real model of --models DIR
 //
 //   bench --only detectors     runs section 6 alone
 //
@@ -687,6 +689,49 @@ void bench_parameters(nlohmann::json& out) {
   }
 }
 
+// Section 9: what the repeats of the vertices (docs/method.md 1.14) cost the analysis: each family at its
+// defaults and each real model of `models`, analysed on one thread with AnalysisOptions::vertex_repeats off
+// and on (best of three each), and the candidates of reason "vertices" it gives.
+void bench_vertex_repeats(const std::string& models, nlohmann::json& out) {
+  std::printf("\n== repeats of the vertices: analysis ms on one thread (best of 3) without and with them\n");
+  std::vector<std::pair<std::string, Mesh>> inputs;
+  for (const std::string& name : count_families())
+    if (auto s = families::generate(name)) inputs.emplace_back(name, s->mesh);
+  if (std::filesystem::is_directory(models)) {
+    std::vector<std::string> files;
+    for (const auto& e : std::filesystem::directory_iterator(models))
+      if (e.path().extension() == ".glb") files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    for (const std::string& f : files)
+      if (auto mesh = load_gltf(f)) inputs.emplace_back(std::filesystem::path(f).stem().string(), std::move(*mesh));
+  }
+  double total[2] = {0, 0};
+  for (const auto& [name, mesh] : inputs) {
+    double ms[2] = {0, 0};
+    int found = 0;
+    for (const bool on : {false, true}) {
+      AnalysisOptions<> options;
+      options.vertex_repeats = on;
+      options.threads = 1;
+      ms[on] = INFINITY;
+      for (int run = 0; run < 3; ++run) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const Result<Analysis> a = analyze(mesh, options);
+        ms[on] = std::min(ms[on], std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        if (a && on)
+          found = int(std::count_if(a->candidates.begin(), a->candidates.end(),
+                                    [](const RepeatCandidate& c) { return c.reason == "vertices"; }));
+      }
+      total[on] += ms[on];
+    }
+    std::printf("%-40s %9.1f %9.1f  %+6.1f%%  %d candidate(s) of the vertices\n", name.c_str(), ms[0], ms[1],
+                100 * (ms[1] / ms[0] - 1), found);
+    out["vertex_repeats"][name] = {{"ms_without", ms[0]}, {"ms_with", ms[1]}, {"candidates", found}};
+  }
+  std::printf("%-40s %9.1f %9.1f  %+6.1f%%\n", "all", total[0], total[1], 100 * (total[1] / total[0] - 1));
+  out["vertex_repeats"]["all"] = {{"ms_without", total[0]}, {"ms_with", total[1]}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -709,7 +754,7 @@ int main(int argc, char** argv) {
     else
       return std::fprintf(stderr,
                           "usage: bench [--quick] [--json FILE] [--models DIR] [--only "
-                          "analysis|shot|comparison|scaling|synthetic|detectors|counts|parameters]\n"),
+                          "analysis|shot|comparison|scaling|synthetic|detectors|counts|parameters|vertex_repeats]\n"),
              2;
   }
   const auto run = [&](const char* section) { return only.empty() || only == section; };
@@ -727,6 +772,7 @@ int main(int argc, char** argv) {
   if (run("detectors")) bench_detectors(families, models, quick, out);
   if (run("counts") && (!quick || only == "counts")) bench_counts(out);  // minutes: not in --quick
   if (run("parameters") && (!quick || only == "parameters")) bench_parameters(out);  // minutes: not in --quick
+  if (run("vertex_repeats") && (!quick || only == "vertex_repeats")) bench_vertex_repeats(models, out);
   std::ofstream(json_path) << out.dump(2) << "\n";
   std::printf("\nwrote %s\n", json_path.c_str());
   return 0;

@@ -92,7 +92,9 @@ void print_dominant_offsets(const Analysis& a) {
     const DominantOffset& d = a.dominant[i];
     const OffsetTest* failed = d.failed_test();
     std::printf("  dominant %zu: %s, %zu votes: %s%s\n", i + 1, v3(a.normalization.to_model_offset(d.offset)).c_str(),
-                d.votes, failed ? "rejected by " : (d.significant ? "significant" : "not tested"),
+                d.votes,
+                failed ? "rejected by "
+                       : (d.significant ? "significant" : d.from_vertices() ? "a repeat of the vertices" : "not tested"),
                 failed ? failed->name.c_str() : "");
     for (const OffsetTest& t : d.tests)
       std::printf("      %-21s %9.4g %s %-9.4g %s\n", t.name.c_str(), t.value, t.at_most ? "<=" : ">=", t.threshold,
@@ -111,7 +113,10 @@ void print_candidates(const Analysis& a) {
     std::printf("  candidate %zu: (%.4g, %.4g, %.4g), length %.4g, %s (%s%d copies): resize along it with --offsets "
                 "%.4g,%.4g,%.4g\n",
                 i + 1, printable(v.x(), v.norm()), printable(v.y(), v.norm()), printable(v.z(), v.norm()), v.norm(),
-                c.reason == "pair" ? "a pair" : "parallel to a principal offset", c.reason == "pair" ? "" : "about ",
+                c.reason == "pair"       ? "a pair"
+                : c.reason == "parallel" ? "parallel to a principal offset"
+                                         : "a repeat of the vertices",
+                c.reason == "parallel" ? "about " : "",
                 c.copies, printable(v.x(), v.norm()), printable(v.y(), v.norm()), printable(v.z(), v.norm()));
   }
 }

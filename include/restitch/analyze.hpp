@@ -184,6 +184,12 @@ struct AnalysisOptions {
   /// vertex and repeat as much of the model as t, or, where no two neighbouring cells of t are copies
   /// (modules of two alternating parts), the shortest m t (m up to 4) at which some are.
   bool verify_periods = true;
+  /// Along each world axis no principal offset or candidate runs along, the shifts at which the vertices
+  /// that shape the model repeat, checked against its structure: the shortest whose neighbouring cells are
+  /// copies over at least half of what lies between the end slabs becomes a candidate of reason "vertices"
+  /// (docs/method.md 1.14): a repeat the matching cast no vote for (three pickets between two posts), which a
+  /// size asked along that axis then uses.
+  bool vertex_repeats = true;
   /// Make a pair (two copies: a candidate of reason "pair") significant when its copies are exact and make up
   /// at least half of the model: a quarter of the vertices pair, and a quarter of the surface area is
   /// triangles whose corners, moved by it, land on vertices (docs/method.md 1.13). As certain a repeat as a
@@ -395,10 +401,11 @@ template <class = void>
 void collect_candidates(double tolerance, Analysis& a) {
   a.candidates.clear();
   std::vector<Eigen::Vector3d> taken;  // the candidates so far
-  for (const bool pairs : {true, false})
+  for (const int kind : {0, 1, 2})  // pairs, parallel, vertices
     for (std::size_t i = 0; i < a.dominant.size(); ++i) {
       const DominantOffset& d = a.dominant[i];
-      if (d.promoted || (pairs ? !d.is_pair() : !d.significant)) continue;
+      const bool pairs = kind == 0;
+      if (d.promoted || !(kind == 0 ? d.is_pair() : kind == 1 ? d.significant : d.from_vertices())) continue;
       const Eigen::Vector3d v = d.offset;
       bool known = is_lattice_vector(v, a.principal, nullptr, tolerance);
       for (const Eigen::Vector3d& e : taken) known = known || is_lattice_vector(v, {}, &e, tolerance);
@@ -407,10 +414,10 @@ void collect_candidates(double tolerance, Analysis& a) {
       RepeatCandidate c;
       c.offset = canonical_sign(v);
       c.dominant = int(i);
-      c.reason = pairs ? "pair" : "parallel";
+      c.reason = kind == 0 ? "pair" : kind == 1 ? "parallel" : "vertices";
       // n copies give overlap(2t) / overlap(t) = (n - 2) / (n - 1), so n = (2 - r) / (1 - r).
       const double r = d.overlap > 0 ? std::clamp(d.overlap_double / d.overlap, 0.0, 0.99) : 0.0;
-      c.copies = pairs ? 2 : std::max(3, int(std::lround((2 - r) / (1 - r))));
+      c.copies = pairs ? 2 : kind == 1 ? std::max(3, int(std::lround((2 - r) / (1 - r)))) : d.copies;
       a.candidates.push_back(c);
     }
 }
@@ -537,14 +544,14 @@ double repeated_length(const CellStructure& s, const Lattice& L, int a) {
 /// unique vertex positions (normalized); nothing is done without them.
 template <class D, class M, class Det>
 Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
-                      const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices, Analysis& a) {
+                      const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices,
+                      std::unique_ptr<TriangleSurface>& surface, Analysis& a) {
   if (!options.verify_periods || !vertices || a.axes.real_count == 0 || a.dense.size() == 0) return {};
-  std::unique_ptr<TriangleSurface> surface;
   Eigen::Matrix<double, Eigen::Dynamic, 3> shaping(0, 3);  // shape_vertices, once an axis needs them
   bool changed = false;
   for (int k = 0; k < a.axes.real_count; ++k) {
     if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
-    const CellStructure st = cell_structure(mesh, a, a.lattice, 0, surface.get());
+    const CellStructure st = cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k);
     const double have = repeated_length(st, a.lattice, k);
     const Eigen::Vector3d t = a.axes.axes[std::size_t(k)];
     const double extent = a.lattice.cells[k] * t.norm();  // the model's length along t, about
@@ -632,7 +639,7 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       // division (half a bookshelf's column: the side panel's cell, panel aside, is the next half column)
       // and no multiple (of a connector's three modules slot, plain, slot, the pair of the last two, its end
       // past its periodic part, against the first two).
-      const CellStructure there = cell_structure(mesh, a, fit->lattice, 0, surface.get(), f == 0);
+      const CellStructure there = cell_structure(mesh, a, fit->lattice, 0, surface.get(), f == 0, k);
       const double got = repeated_length(there, fit->lattice, k);
       // The parts along k inside the model (not holding an end slab: how the ends fall differs between
       // lattices, a shutter's bottom rail takes two cells of its slat pitch and one of six pitches).
@@ -686,6 +693,77 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
   return {};
 }
 
+/// docs/method.md 1.14: along each world axis w that no principal offset and no candidate runs along, the
+/// shifts at which the vertices that shape the model repeat (vertex_lags over shape_vertices, the four most
+/// paired), shortest first; the first that snaps onto the vertices along w, whose lattice (the principal
+/// offsets and it) has neighbouring cells along it that are copies, covering at least half of the slabs
+/// between the two end slabs, with no part that occurs twice inside the model, is added to the dominant
+/// offsets (votes 0, test records "vertex_lag" and "vertex_structure"; DominantOffset::from_vertices) and so
+/// becomes a candidate of reason "vertices". `vertices`: the unique vertex positions (normalized); nothing is
+/// done without them.
+template <class D, class M, class Det>
+Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
+                           const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices,
+                           std::unique_ptr<TriangleSurface>& surface, Analysis& a) {
+  if (!options.vertex_repeats || !vertices || vertices->rows() < 2 || a.axes.real_count >= 3 || a.dense.size() == 0)
+    return {};
+  std::array<bool, 3> covered{{false, false, false}};
+  for (const Eigen::Vector3d& p : a.principal) covered[std::size_t(world_axis_of(p))] = true;
+  for (const RepeatCandidate& c : a.candidates) covered[std::size_t(world_axis_of(c.offset))] = true;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> shaping(0, 3);
+  bool added = false;
+  for (int w = 0; w < 3; ++w) {
+    if (covered[std::size_t(w)]) continue;
+    if (shaping.rows() == 0) shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
+    const double length = vertices->col(w).maxCoeff() - vertices->col(w).minCoeff();
+    const Eigen::Vector3d along = Eigen::Vector3d::Unit(w);
+    std::vector<Eigen::Vector3d> lags =
+        vertex_lags(shaping, length * along, options.snap.end_radius, options.dense_spacing, options.snap.min_pairs, 4);
+    std::stable_sort(lags.begin(), lags.end(),
+                     [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) { return x.norm() < y.norm(); });
+    for (const Eigen::Vector3d& u : lags) {
+      // Exact pairs, averaged: the snap stays within two end radii of the lag, and on w's line.
+      const SnapResult snapped = snap_offset(*vertices, u, options.snap);
+      const Eigen::Vector3d across = snapped.offset - snapped.offset[w] * along;
+      if (!snapped.snapped || (snapped.offset - u).norm() > 2 * options.snap.end_radius ||
+          across.norm() > 2 * options.snap.end_radius)
+        continue;
+      std::vector<Eigen::Vector3d> list(a.principal.begin(), a.principal.end());
+      list.push_back(snapped.offset);
+      const PrincipalOffsets axes = select_principal_offsets(list, options.min_angle, options.dummy_length);
+      if (axes.real_count != int(list.size())) continue;
+      Result<LatticeFit> fit = fit_lattice(mesh, a.normalization, a.dense, axes, options.lattice);
+      if (!fit) return fit.status();
+      const int k = axes.real_count - 1;
+      if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
+      const CellStructure st = cell_structure(mesh, a, fit->lattice, 0, surface.get(), true, k);
+      const double got = repeated_length(st, fit->lattice, k);
+      // Half of what lies between the end slabs (they hold the model's ends: posts, a housing's walls): the
+      // repeat is the model's content along w, not a detail of one part (a handle's grooves), which a size
+      // asked along w must not multiply.
+      const double between = std::max(fit->lattice.cells[k] - 2, 1) * fit->lattice.A.col(k).norm();
+      const bool repeated_part = std::any_of(st.parts.begin(), st.parts.end(), [&](const SingularPart& p) {
+        return p.axis == k && p.repeated && p.first > 0 && p.last < st.cells[k] - 1;
+      });
+      if (!(got > 0) || repeated_part) continue;
+      DominantOffset d;
+      d.offset = d.bin_center = d.unslid = snapped.offset;
+      record_test(d.tests, "vertex_lag", double(snapped.pairs), double(options.snap.min_pairs));
+      for (int i = 0; i < fit->lattice.cells[k]; ++i) d.copies += st.repeats(k, i);
+      // A repeat is two slabs at least, a slab and its copy (one slab alone found a copy of its neighbour,
+      // which is not found one of it, is an end slab's periodic part matching, 2.10: a box's depth).
+      if (!record_test(d.tests, "vertex_copies", d.copies, 2) ||
+          !record_test(d.tests, "vertex_structure", got / between, 0.5))
+        continue;
+      a.dominant.push_back(d);
+      added = true;
+      break;
+    }
+  }
+  if (added) collect_candidates(options.dense_spacing, a);
+  return {};
+}
+
 /// Stage "lattice": significant dominant offsets reduced to their fundamental periods, then select_and_fit.
 template <class D, class M, class Det>
 Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options, Analysis& a) {
@@ -694,7 +772,9 @@ Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>&
   reduce_to_fundamental_periods(options, options.snap_to_vertices ? &P : nullptr, a);
   RESTITCH_TRY(find_short_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, a));
   RESTITCH_TRY(select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, a));
-  return verify_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, a);
+  std::unique_ptr<TriangleSurface> surface;  // the mesh's triangles for the structures, built once needed
+  RESTITCH_TRY(verify_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a));
+  return find_vertex_repeats(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a);
 }
 
 /// The vertex features of an analysis (features [sampled_features, end)): the ICP anchors.
@@ -816,7 +896,10 @@ Status promote_offsets(const Mesh& mesh, const AnalysisOptions<D, M, Det>& optio
       bool kept = false;  // the value typed, snapped, rather than ICP's
       if (options.snap_to_vertices) {  // the value typed stands where it repeats more vertices (docs/method.md 1.10)
         const SnapResult at_typed = snap_offset(P, typed, options.snap);
-        if (at_typed.snapped && at_typed.pairs > snap_offset(P, t, options.snap).pairs) t = at_typed.offset, kept = true;
+        // So too where ICP slid onto the model itself (a flat box pulls it there) but the value typed maps
+        // vertex pairs: a repeat of the vertices (1.14) the surface alone does not hold.
+        if (at_typed.snapped && (!(t.norm() > radius) || at_typed.pairs > snap_offset(P, t, options.snap).pairs))
+          t = at_typed.offset, kept = true;
       }
       if (!(t.norm() > radius))
         return error(StatusCode::invalid_argument,

@@ -246,6 +246,16 @@ expect 0 "$bin" resize "$work/fence.glb" -o "$work/fence-tall.glb" --size 0,1.74
 grep -q "no principal offset runs along y: using candidate 1" "$work/out" && ok || bad "resize --size: the candidate fallback is not reported"
 [ "$(json_field size_out < "$work/fence-tall.json" | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8"))[1].toFixed(2))')" = 1.74 ] && ok || bad "resize --size along a candidate: wrong size"
 validate "$work/fence-tall.glb"
+# A 2-picket fence: the matching casts no vote for its picket pitch, its vertices repeat at it (docs/method.md
+# 1.14): analyze lists the candidate, --size along x uses it (two more pickets: 0.5 -> 0.8 long).
+"$bin" sample fence --pickets 2 -o "$work/fence2.glb" >/dev/null
+expect 0 "$bin" analyze "$work/fence2.glb" --verbose
+grep -Eq "candidate [0-9]: \(0.15, 0, 0\).*a repeat of the vertices \([0-9]+ copies\)" "$work/out" && ok || bad "analyze: the vertices' candidate is not listed: $(cat "$work/out")"
+grep -Eq "vertex_structure +[0-9.]+ >= 0.5 +passed" "$work/out" && ok || bad "analyze --verbose: the vertices' candidate's tests are not shown"
+expect 0 "$bin" resize "$work/fence2.glb" -o "$work/fence4.glb" --size 0.8,0,0 --json "$work/fence4.json"
+grep -Eq "no principal offset runs along x: using candidate [0-9] \(0.15, 0, 0\) \(vertices" "$work/out" && ok || bad "resize --size: the vertices' candidate is not reported: $(cat "$work/out")"
+[ "$(json_field size_out < "$work/fence4.json" | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8"))[0].toFixed(3))')" = 0.800 ] && ok || bad "resize --size along the vertices' candidate: wrong size"
+validate "$work/fence4.glb"
 expect 0 "$bin" resize "$work/pins2.glb" -o "$work/pins2to4.glb" --offsets 2.5,0,0 --steps 2 --json "$work/pins2to4.json"
 [ "$(json_field size_out < "$work/pins2to4.json" | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8"))[0].toFixed(3))')" = 10.760 ] && ok || bad "resize --offsets 2.5,0,0 --steps 2: not 4 pins long"
 expect_error 2 "triples" "$bin" analyze "$work/pins2.glb" --offsets 1,2

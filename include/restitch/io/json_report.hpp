@@ -12,7 +12,7 @@
 //   double_drift is in dense sample spacings, the others are shares of the
 //   dense surface or their ratios, unitless; rejected_by names the failed
 //   test, null when none failed; promoted: made principal on request),
-//   candidates [{offset [x,y,z], copies, reason ("pair" | "parallel"),
+//   candidates [{offset [x,y,z], copies, reason ("pair" | "parallel" | "vertices"),
 //   dominant (index in dominant_offsets)}] (docs/method.md 1.10),
 //   principal_offsets [[x,y,z]...] in order, dummy_directions [[x,y,z]...],
 //   lattice_axes [[x,y,z] x3] (the principal offsets in order, then the dummy

@@ -160,9 +160,12 @@ bool parts_fit(const CellStructure& s, int a, int k) {
 /// axes of one cell have no parts. `mesh_surface`: the mesh's triangles under their tree, when the caller
 /// has them (null: built here). `end_parts`: compare an end slab over its periodic part where that is at
 /// least half its cell (docs/method.md 2.10); false compares end slabs whole (a divisor's check, 1.12).
+/// `only_axis` >= 0: that lattice axis alone (the others are left as along an axis of one cell), for a
+/// caller that reads no other: the analysis checking one period (1.12, 1.14).
 template <class = void>
 CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const Lattice& grid, double tolerance = 0,
-                             const detail::TriangleSurface* mesh_surface = nullptr, bool end_parts = true) {
+                             const detail::TriangleSurface* mesh_surface = nullptr, bool end_parts = true,
+                             int only_axis = -1) {
   CellStructure s;
   s.cells = grid.cells;
   s.tolerance = tolerance > 0 ? tolerance : 1e-3 * bounding_box(mesh).size().norm();
@@ -182,7 +185,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
   const detail::TriangleSurface* surface = mesh_surface;
   for (int a = 0; a < 3; ++a) {
     const int n = grid.cells[a];
-    if (grid.dummy[a] || n < 2) continue;
+    if (grid.dummy[a] || n < 2 || (only_axis >= 0 && a != only_axis)) continue;
     if (!surface) own = std::make_unique<detail::TriangleSurface>(mesh), surface = own.get();
     const double lo = grid.end_low[a], hi = double(n - 1) + grid.end_high[a];
     const Eigen::Vector3d v = grid.A.col(a);

@@ -155,6 +155,9 @@ struct DominantOffset {
   std::vector<OffsetTest> tests;
   /// Made principal on request (promote_offsets, `--offsets`), whatever its tests say.
   bool promoted = false;
+  /// A repeat of the vertices (docs/method.md 1.14, from_vertices()): the cells along it found copies of a
+  /// neighbour; 0 for the detector's offsets.
+  int copies = 0;
 
   /// The test that rejected this offset (the first that failed), or null when it is significant.
   template <class = void>
@@ -164,6 +167,9 @@ struct DominantOffset {
       if (!t.passed) return &t;
     return nullptr;
   }
+  /// Found by the lags of the vertices along an axis the matching found nothing on and checked against the
+  /// structure (docs/method.md 1.14), not by the detector: a candidate of reason "vertices".
+  bool from_vertices() const { return !tests.empty() && tests.front().name == "vertex_lag" && tests.back().passed; }
   /// Not significant, and on the whole surface it passed votes, overlap and contrast and failed a
   /// pattern test: two copies, not a pattern.
   template <class = void>
