@@ -110,6 +110,7 @@ TEST_CASE("structure: the parts that occur once are found where the families put
         const SingularPart* p = st->part_of(f.axis, slab_of(f, block));
         REQUIRE(p);
         CHECK(p->anchor == anchor_named(part.anchor));
+        CHECK_FALSE(p->holds_run);  // every run is in phase with the cells
       }
     }
     // Every other module repeats.
@@ -537,6 +538,34 @@ TEST_CASE("analysis: two equal runs of slats split by a rail have the slat pitch
   for (const OffsetTest& t : f.analysis.dominant[std::size_t(source)].tests)
     recorded = recorded || (t.name == "structure_shorter" && t.passed && std::abs(t.value - 0.34 / 0.07) < 1e-3);
   CHECK(recorded);
+}
+
+TEST_CASE("structure: a run of two slats out of phase with the cells is found in its part, and a resize is warned",
+          "[structure][samples]") {
+  // 5 slats (3 below the rail) at a 0.0513 pitch with a 0.0773 rail, half a pitch longer than one: on the lower
+  // run's cells the upper run of 2 straddles the cell planes, no cell of it is slats alone, and it joins the
+  // rail and the top rail in the high end part, which the grow keeps whole (docs/method.md 2.10). The same
+  // shutter with a rail of a whole number of pitches (two, 0.1026) has its upper run in phase: no such part.
+  const std::map<std::string, double> lengths = {{"slats", 5},        {"pitch", 0.0513176},  {"width", 0.599398},
+                                                 {"stile", 0.0413209}, {"rail", 0.07726}, {"slat_thickness", 0.00753893}};
+  for (const double rail : {0.07726, 2 * 0.0513176}) {
+    INFO("rail " << rail);
+    std::map<std::string, double> params = lengths;
+    params["rail"] = rail;
+    const Family f = make("shutter", params);
+    REQUIRE(f.axis >= 0);
+    Retargeter<> r(f.sample.mesh, f.analysis);
+    REQUIRE(r.structure());
+    bool holds = false;
+    for (const SingularPart& p : r.structure()->parts)
+      if (p.axis == f.axis && p.holds_run) {
+        holds = true;
+        CHECK(p.last - p.first >= 2);
+      }
+    const bool out_of_phase = rail < 0.1;
+    CHECK(holds == out_of_phase);
+    CHECK(grown_warned(r, f.axis, "run out of phase") == out_of_phase);
+  }
 }
 
 TEST_CASE("structure: a part that is a copy of the next part is marked repeated, a part alone is not", "[structure]") {

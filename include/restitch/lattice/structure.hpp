@@ -78,6 +78,11 @@ struct SingularPart {
   /// counterpart): content that occurs more than once, which a period that makes it a part has missed
   /// (docs/method.md 1.12).
   bool repeated = false;
+  /// An end part of three slabs or more in which two neighbouring windows of one period, at a phase other
+  /// than the cells', are copies and not plain: it holds a run of the repeat out of phase with the lattice
+  /// (slats past a rail whose length is no whole number of pitches), which is kept as it is, so that run
+  /// does not grow with the others (docs/method.md 2.10).
+  bool holds_run = false;
 };
 
 struct CellStructure {
@@ -363,6 +368,43 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       bool same = true;
       for (int j = p.first; j <= p.last && same; ++j) same = copies(j, j + (q.first - p.first));
       if (same) p.repeated = q.repeated = true;
+    }
+    // A run out of phase inside an end part: windows of one period at a phase other than the cells', each
+    // short of one sample spacing at both ends (a run of exactly two fills its two windows at one phase only,
+    // which a sweep in steps of a spacing would miss), whose samples moved onto each other land on the
+    // surface, and whose content changes along a (the plain test above, on the first window). An end part
+    // only: what a part kept at the centre holds is kept there whole on purpose (the pins inside a centred
+    // key notch repeat, and the notch must not widen), while a run at an end, past a rail, is a run the
+    // grow leaves out. Two windows, so three slabs at least; at the cells' own phase (within two spacings)
+    // the windows are the part's slabs, no copies.
+    std::vector<std::size_t> order;  // the compared samples by position along a, built for the first such part
+    const double step = std::max(s.spacing[a], 1e-3);
+    for (SingularPart& p : s.parts) {
+      if (p.axis != a || p.last - p.first < 2 || (p.first > 0 && p.last < n - 1)) continue;
+      if (order.empty()) {
+        for (int i = 0; i < n; ++i) order.insert(order.end(), slab[std::size_t(i)].begin(), slab[std::size_t(i)].end());
+        std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+          return canonical[x][a] != canonical[y][a] ? canonical[x][a] < canonical[y][a] : x < y;
+        });
+      }
+      const auto at = [&](double t) {  // the first sample of `order` at t or past it
+        return std::size_t(std::lower_bound(order.begin(), order.end(), t,
+                                            [&](std::size_t k, double v) { return canonical[k][a] < v; }) -
+                           order.begin());
+      };
+      // The samples in [from + step, from + 1 - step), moved by `shift` periods, all land on the surface.
+      const auto land = [&](double from, double shift) {
+        const std::size_t i0 = at(from + step), i1 = at(from + 1 - step);
+        for (std::size_t i = i0; i < i1; ++i)
+          if (off_surface(order[i], shift)) return false;
+        return i0 < i1;
+      };
+      const double low = std::max(double(p.first), lo_cmp), high = std::min(double(p.last + 1), hi_cmp);
+      for (double w = low - step; w + 2 - step <= high && !p.holds_run; w += step) {
+        const double phase = w - std::floor(w);
+        if (std::min(phase, 1 - phase) < 2 * step || !land(w, 1) || !land(w + 1, -1)) continue;
+        p.holds_run = !land(w, slide);  // the content changes along a
+      }
     }
   }
   return s;
