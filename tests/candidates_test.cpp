@@ -175,47 +175,59 @@ TEST_CASE("promote_offsets: an empty list restores the detected offsets; bad req
   for (const DominantOffset& d : a.dominant) CHECK(!d.promoted);
 }
 
-TEST_CASE("a 2-picket fence: no vote for its picket pitch, but its vertices repeat at it, a candidate that resizes it "
-          "into the real 3- to 5-picket fences",
+TEST_CASE("fences of 2 and 3 pickets: no vote for the picket pitch, but the vertices repeat at it, a candidate that "
+          "resizes them into the real fences",
           "[candidates][retarget]") {
-  // Its pickets' features match each other up and down their own uniform sides, and its rails are one pair
-  // across: the matching casts no vote for the 0.15 m pitch along x (docs/method.md 1.14).
-  const auto two = families::generate("fence", {{"pickets", 2}});
-  REQUIRE(two.ok());
-  const Vector3d pitch = two->generators[0];
-  Analysis a = *analyze(two->mesh);
-  for (const Vector3d& p : a.principal_model_units()) CHECK(world_axis_of(p) != 0);
-  const std::vector<int> use = a.candidates_for_axes({{true, false, false}});
-  REQUIRE(use.size() == 1);
-  const RepeatCandidate& c = a.candidates[std::size_t(use[0])];
-  CHECK(c.reason == "vertices");
-  CHECK(c.copies >= 2);
-  CHECK(recovered(pitch, {a.model_units(c)}, 1e-5, 0.01));
-  REQUIRE(c.dominant >= 0);
-  const DominantOffset& d = a.dominant[std::size_t(c.dominant)];
-  CHECK(d.votes == 0);
-  CHECK(d.from_vertices());
-  // Promoted as `restitch resize --size` does: the candidate's offset in model units.
-  REQUIRE(promote_offsets(two->mesh, AnalysisOptions<>{}, {a.model_units(c)}, a).ok());
-  REQUIRE(!a.principal.empty());
-  CHECK(recovered(pitch, {a.principal_model_units()[0]}, 1e-5, 0.01));
-  Retargeter<> r(two->mesh, a);
-  REQUIRE(r.status().ok());
-  for (const int more : {1, 2, 3}) {
-    INFO(more << " more pickets");
-    const auto want = families::generate("fence", {{"pickets", 2 + more}});
-    std::vector<int> steps(a.principal.size(), 0);
-    steps[0] = more;
-    const auto out = r.retarget(*lattice_steps_from_principal(a, steps));
-    REQUIRE(out.ok());
-    CHECK(validate(out->mesh).ok());
-    const BoundingBox box = bounding_box(out->mesh), real = bounding_box(want->mesh);
-    CHECK((box.min - real.min).norm() < 1e-4);
-    CHECK((box.max - real.max).norm() < 1e-4);
-    // The same fence: every vertex of the real one is in the result, and their surfaces lie on each other
-    // (the pickets in place, no part twice; seams cut the rails where the copies continue each other).
-    CHECK(max_nearest(want->mesh.V, out->mesh.V) < 1e-4);
-    CHECK(symmetric_surface_distance(out->mesh, want->mesh, 0.01) < 1e-4 * (real.max - real.min).norm());
+  // The pickets' features match each other up and down their own uniform sides, and the rails are one pair
+  // across: the matching casts no vote for the pitch along x (docs/method.md 1.14). The default fence at 2
+  // pickets, and one at 3 with other lengths (a set `bench --only parameters` draws).
+  const std::map<std::string, double> other = {
+      {"picket_pitch", 0.111365},   {"picket_width", 0.108357},    {"picket_height", 0.772797},
+      {"picket_thickness", 0.0208317}, {"point_height", 0.0577342}, {"post_width", 0.0711249},
+      {"post_height", 0.833035},    {"rail_height", 0.0594113},    {"rail_thickness", 0.0226839}};
+  for (const auto& [n, lengths] : {std::pair<int, std::map<std::string, double>>{2, {}}, {3, other}}) {
+    INFO(n << " pickets");
+    std::map<std::string, double> params = lengths;
+    params["pickets"] = n;
+    const auto fence = families::generate("fence", params);
+    REQUIRE(fence.ok());
+    const Vector3d pitch = fence->generators[0];
+    Analysis a = *analyze(fence->mesh);
+    for (const Vector3d& p : a.principal_model_units()) CHECK(world_axis_of(p) != 0);
+    const std::vector<int> use = a.candidates_for_axes({{true, false, false}});
+    REQUIRE(use.size() == 1);
+    const RepeatCandidate& c = a.candidates[std::size_t(use[0])];
+    CHECK(c.reason == "vertices");
+    CHECK(c.copies >= 2);
+    CHECK(recovered(pitch, {a.model_units(c)}, 1e-5, 0.01));
+    REQUIRE(c.dominant >= 0);
+    const DominantOffset& d = a.dominant[std::size_t(c.dominant)];
+    CHECK(d.votes == 0);
+    CHECK(d.from_vertices());
+    // Promoted as `restitch resize --size` does: the candidate's offset in model units.
+    REQUIRE(promote_offsets(fence->mesh, AnalysisOptions<>{}, {a.model_units(c)}, a).ok());
+    REQUIRE(!a.principal.empty());
+    CHECK(recovered(pitch, {a.principal_model_units()[0]}, 1e-5, 0.01));
+    Retargeter<> r(fence->mesh, a);
+    REQUIRE(r.status().ok());
+    for (const int more : {1, 2, -1}) {
+      INFO(more << " more pickets");
+      if (n + more < 1) continue;
+      params["pickets"] = n + more;
+      const auto want = families::generate("fence", params);
+      std::vector<int> steps(a.principal.size(), 0);
+      steps[0] = more;
+      const auto out = r.retarget(*lattice_steps_from_principal(a, steps));
+      REQUIRE(out.ok());
+      CHECK(validate(out->mesh).ok());
+      const BoundingBox box = bounding_box(out->mesh), real = bounding_box(want->mesh);
+      CHECK((box.min - real.min).norm() < 1e-4);
+      CHECK((box.max - real.max).norm() < 1e-4);
+      // The same fence: every vertex of the real one is in the result, and their surfaces lie on each other
+      // (the pickets in place, no part twice; seams cut the rails where the copies continue each other).
+      CHECK(max_nearest(want->mesh.V, out->mesh.V) < 1e-4);
+      CHECK(symmetric_surface_distance(out->mesh, want->mesh, 0.01) < 1e-4 * (real.max - real.min).norm());
+    }
   }
 }
 
