@@ -698,7 +698,8 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
 /// paired), shortest first; the first that snaps onto the vertices along w, whose lattice (the principal
 /// offsets and it) has neighbouring cells along it that are copies, covering at least half of the slabs
 /// between the two end slabs, with no part that occurs twice inside the model, is added to the dominant
-/// offsets (votes 0, test records "vertex_lag" and "vertex_structure"; DominantOffset::from_vertices) and so
+/// offsets (votes 0, test records "vertex_lag", "vertex_copies", "vertex_structure";
+/// DominantOffset::from_vertices) and so
 /// becomes a candidate of reason "vertices". `vertices`: the unique vertex positions (normalized); nothing is
 /// done without them.
 template <class D, class M, class Det>
@@ -750,8 +751,8 @@ Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& o
       d.offset = d.bin_center = d.unslid = snapped.offset;
       record_test(d.tests, "vertex_lag", double(snapped.pairs), double(options.snap.min_pairs));
       for (int i = 0; i < fit->lattice.cells[k]; ++i) d.copies += st.repeats(k, i);
-      // A repeat is two slabs at least, a slab and its copy (one slab alone found a copy of its neighbour,
-      // which is not found one of it, is an end slab's periodic part matching, 2.10: a box's depth).
+      // A repeat is two slabs at least, a slab and its copy (a lag as long as the model, a box's depth, gives
+      // an axis of one cell, which has no structure and counts its one slab as repeating).
       if (!record_test(d.tests, "vertex_copies", d.copies, 2) ||
           !record_test(d.tests, "vertex_structure", got / between, 0.5))
         continue;
