@@ -598,3 +598,51 @@ TEST_CASE("structure: a part that is a copy of the next part is marked repeated,
   CHECK(part_at(8) != part_at(6));
   CHECK_FALSE(part_at(4));
 }
+
+TEST_CASE("structure: one axis alone (only_axis) is that axis of the whole structure", "[structure][samples]") {
+  // The analysis checks one period at a time on one axis (docs/method.md 1.12, 1.14): what it reads of that
+  // axis must be what the whole structure says. Two axes each (bookshelf, facade), parts at both ends and at
+  // the centre (box header), a run out of phase (the shutter of 2.10).
+  const std::vector<std::pair<std::string, std::map<std::string, double>>> cases = {
+      {"bookshelf", {}},
+      {"facade", {}},
+      {"box_header", {{"columns", 9}}},
+      {"shutter", {{"slats", 5}, {"pitch", 0.0513176}, {"width", 0.599398}, {"stile", 0.0413209}, {"rail", 0.07726},
+                   {"slat_thickness", 0.00753893}}},
+  };
+  for (const auto& [name, params] : cases) {
+    INFO(name);
+    const Family f = make(name, params);
+    const Mesh& mesh = f.sample.mesh;
+    const Lattice& L = f.analysis.lattice;
+    const CellStructure whole = cell_structure(mesh, f.analysis, L);
+    int compared = 0;
+    for (int k = 0; k < 3; ++k) {
+      if (L.dummy[k] || L.cells[k] < 2) continue;
+      INFO("axis " << k);
+      ++compared;
+      const CellStructure one = cell_structure(mesh, f.analysis, L, 0, nullptr, true, k);
+      CHECK(one.copy_of[std::size_t(k)] == whole.copy_of[std::size_t(k)]);
+      CHECK(one.undecided[std::size_t(k)] == whole.undecided[std::size_t(k)]);
+      CHECK(one.extent_low[k] == whole.extent_low[k]);
+      CHECK(one.extent_high[k] == whole.extent_high[k]);
+      std::vector<const SingularPart*> a, b;
+      for (const SingularPart& p : one.parts) {
+        CHECK(p.axis == k);  // the other axes are left alone
+        a.push_back(&p);
+      }
+      for (const SingularPart& p : whole.parts)
+        if (p.axis == k) b.push_back(&p);
+      REQUIRE(a.size() == b.size());
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        CHECK(a[i]->first == b[i]->first);
+        CHECK(a[i]->last == b[i]->last);
+        CHECK(a[i]->anchor == b[i]->anchor);
+        CHECK(a[i]->offset == b[i]->offset);
+        CHECK(a[i]->repeated == b[i]->repeated);
+        CHECK(a[i]->holds_run == b[i]->holds_run);
+      }
+    }
+    CHECK(compared >= 1);
+  }
+}
