@@ -404,7 +404,6 @@ void collect_candidates(double tolerance, Analysis& a) {
   for (const int kind : {0, 1, 2})  // pairs, parallel, vertices
     for (std::size_t i = 0; i < a.dominant.size(); ++i) {
       const DominantOffset& d = a.dominant[i];
-      const bool pairs = kind == 0;
       if (d.promoted || !(kind == 0 ? d.is_pair() : kind == 1 ? d.significant : d.from_vertices())) continue;
       const Eigen::Vector3d v = d.offset;
       bool known = is_lattice_vector(v, a.principal, nullptr, tolerance);
@@ -417,7 +416,7 @@ void collect_candidates(double tolerance, Analysis& a) {
       c.reason = kind == 0 ? "pair" : kind == 1 ? "parallel" : "vertices";
       // n copies give overlap(2t) / overlap(t) = (n - 2) / (n - 1), so n = (2 - r) / (1 - r).
       const double r = d.overlap > 0 ? std::clamp(d.overlap_double / d.overlap, 0.0, 0.99) : 0.0;
-      c.copies = pairs ? 2 : kind == 1 ? std::max(3, int(std::lround((2 - r) / (1 - r)))) : d.copies;
+      c.copies = kind == 0 ? 2 : kind == 1 ? std::max(3, int(std::lround((2 - r) / (1 - r)))) : d.copies;
       a.candidates.push_back(c);
     }
 }
@@ -532,6 +531,15 @@ double repeated_length(const CellStructure& s, const Lattice& L, int a) {
   int repeating = 0;
   for (int i = 0; i < L.cells[a]; ++i) repeating += s.repeats(a, i);
   return repeating * L.A.col(a).norm();
+}
+
+/// Whether a part along lattice axis a inside the model (holding no end slab) is a copy of another part
+/// (SingularPart::repeated): content that recurs, which a period that makes it a part has missed (1.12).
+template <class = void>
+bool repeated_inner_part(const CellStructure& s, int a) {
+  return std::any_of(s.parts.begin(), s.parts.end(), [&](const SingularPart& p) {
+    return p.axis == a && p.repeated && p.first > 0 && p.last < s.cells[a] - 1;
+  });
 }
 
 /// docs/method.md 1.12: each principal offset t checked against the structure of the model on its
@@ -649,8 +657,6 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       const auto inner_parts = [&](const CellStructure& c) {
         return std::count_if(c.parts.begin(), c.parts.end(), [&](const SingularPart& p) { return inner(c, p); });
       };
-      const bool repeated_part = std::any_of(there.parts.begin(), there.parts.end(),
-                                             [&](const SingularPart& p) { return inner(there, p) && p.repeated; });
       // Either must make some neighbouring cells copies (an axis too short to compare any is no answer).
       // A divisor explains as much of the model as t did, one period aside (the end slabs fall differently),
       // with no more parts inside it (a third of a pitch over a wall subdivided in thirds repeats the wall
@@ -667,7 +673,7 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       const double spans = a.lattice.cells[k] * t.norm() / a.normalization.scale;
       const bool covers_more = have > 0 ? got >= have : got >= 0.5 * spans;
       if (!(got > 0) || (f < 0 && (!covers || inner_parts(there) > inner_parts(st))) ||
-          (f == 0 && (!covers_more || repeated_part || inner_parts(there) > inner_parts(st) + 1)))
+          (f == 0 && (!covers_more || repeated_inner_part(there, k) || inner_parts(there) > inner_parts(st) + 1)))
         continue;
       a.axes = axes;
       if (f == 0 && g.from >= 0) a.axes.source[std::size_t(k)] = g.from;  // else t's dominant now reads s
@@ -743,10 +749,7 @@ Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& o
       // repeat is the model's content along w, not a detail of one part (a handle's grooves), which a size
       // asked along w must not multiply.
       const double between = std::max(fit->lattice.cells[k] - 2, 1) * fit->lattice.A.col(k).norm();
-      const bool repeated_part = std::any_of(st.parts.begin(), st.parts.end(), [&](const SingularPart& p) {
-        return p.axis == k && p.repeated && p.first > 0 && p.last < st.cells[k] - 1;
-      });
-      if (!(got > 0) || repeated_part) continue;
+      if (!(got > 0) || repeated_inner_part(st, k)) continue;
       DominantOffset d;
       d.offset = d.bin_center = d.unslid = snapped.offset;
       record_test(d.tests, "vertex_lag", double(snapped.pairs), double(options.snap.min_pairs));

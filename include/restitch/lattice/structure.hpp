@@ -38,8 +38,10 @@
 //
 // Cost: an AABB tree over the triangles (O(#F log #F)), then bounded point-to-surface queries: two per
 // dense sample and axis for the neighbours, one per sample of two neighbours found copies (the plain
-// test), and a test that stops at its first sample off the surface per other slab a slab that does not
-// repeat next door is compared with. Once per Retargeter.
+// test), a test that stops at its first sample off the surface per other slab a slab that does not
+// repeat next door is compared with, and, in an end part of three slabs or more, per phase one sample
+// spacing apart, two such tests on windows of one period (a run of the repeat out of phase inside it).
+// Once per Retargeter.
 #pragma once
 
 #include <Eigen/Core>
