@@ -789,7 +789,8 @@ TEST_CASE("retarget: a seam moves off its cell plane to where the two copies con
 }
 
 // The same row with plaques that differ by less than the samples can tell apart and more than the stitcher
-// closes: plaque k at height 1.1 + 0.01 {0, 2, 1, 4, 3, 0, 2}[k], so the copies of a plaque one or two
+// closes: plaque k at height 1.1 + 0.01 {0, 2, 1, 4, 3, 5, 6}[k] (no two alike: two alike farther apart
+// would repeat around the plaques between them, docs/method.md 2.10), so the copies of a plaque one or two
 // periods apart lie 0.01 to 0.03 apart, under 1.5 sample spacings (about 0.09), over the zipper's gap (1e-3
 // of the diagonal, 0.0065), wherever the labelling puts the seam. Judged on the
 // samples, a cell plane across the plaques is continued and stays, and the seams open; judged on the
@@ -798,7 +799,7 @@ TEST_CASE("retarget: a seam moves off its cell plane to where the two copies con
 TEST_CASE("retarget: a seam plane where the copies differ by more than the stitcher closes moves, however "
           "close the samples (docs/method.md 2.9)",
           "[retarget]") {
-  const Mesh m = plaque_row({0, 0.02, 0.01, 0.04, 0.03, 0, 0.02});
+  const Mesh m = plaque_row({0, 0.02, 0.01, 0.04, 0.03, 0.05, 0.06});
   Result<Analysis> found = analyze(m);
   REQUIRE(found.ok());
   REQUIRE(found->principal.size() == 1);

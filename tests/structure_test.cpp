@@ -190,7 +190,7 @@ TEST_CASE("structure: structured families resized from every count to every othe
     bool open;
   };
   for (const Sweep& s : {Sweep{"connector", {4, 5, 6, 7, 8}, true}, Sweep{"cabinet", {2, 3, 4, 5, 6, 7, 8}, true},
-                         Sweep{"radiator", {2, 3, 4, 5, 6, 7, 8}, true}, Sweep{"box_header", {6, 7, 8, 9, 10}, true},
+                         Sweep{"radiator", {2, 3, 4, 5, 6, 7, 8}, true}, Sweep{"box_header", {5, 6, 7, 8, 9, 10}, true},
                          Sweep{"shutter", {5, 6, 7, 8, 9, 10}, true}}) {
     const std::string count = families::generate(s.name)->count_parameters[0];
     for (const int n : s.counts) {
@@ -337,15 +337,78 @@ TEST_CASE("structure: with the parts kept off, the placement and the labelling a
   CHECK(std::abs(got.min.x() - want.min.x()) > 0.5 * f.sample.generators[0].norm());
 }
 
-TEST_CASE("structure: an axis where no two neighbouring cells are copies is undecided, resized as the paper does, "
-          "and warned",
+TEST_CASE("structure: copies farther apart than neighbours repeat, around the content that occurs once between them",
           "[structure][samples]") {
-  const Family f = make("box_header", {{"columns", 5}});  // the notch reaches every column but the two plain ones
+  // A box header of five columns: plain, notch edge, notch, notch edge, plain. No two neighbouring columns are
+  // copies; the two plain ones, 4 apart, are, and the notch between them is one part, kept at the centre.
+  const Family f = make("box_header", {{"columns", 5}});
   Retargeter<> r(f.sample.mesh, f.analysis);
   REQUIRE(r.structure());
-  CHECK(r.structure()->undecided[std::size_t(f.axis)]);
-  CHECK(r.structure()->parts.empty());
-  CHECK(grown_warned(r, f.axis, "undecided axis"));
+  const CellStructure& st = *r.structure();
+  const std::size_t a = std::size_t(f.axis);
+  CHECK_FALSE(st.undecided[a]);
+  CHECK(st.far_copies[a]);
+  const int first = slab_of(f, 0), last = slab_of(f, 4);
+  CHECK(st.copy_of[a][std::size_t(first)] == last);
+  CHECK(st.copy_of[a][std::size_t(last)] == first);
+  const SingularPart* notch = st.part_of(f.axis, slab_of(f, 2));
+  REQUIRE(notch);
+  CHECK(notch->anchor == PartAnchor::centre);
+  CHECK(notch->first == slab_of(f, 1));
+  CHECK(notch->last == slab_of(f, 3));
+  CHECK_FALSE(grown_warned(r, f.axis, "undecided axis"));
+}
+
+namespace {
+
+// Posts one apart along x, each under a cap of its own height (so no two neighbours are copies), `caps[i]` the
+// height of post i's cap; equal heights make copies. The structure along the posts' axis, and that axis.
+std::pair<CellStructure, int> capped_posts(const std::vector<double>& caps) {
+  Mesh m;
+  for (std::size_t i = 0; i < caps.size(); ++i) {
+    const double x = double(i);
+    test::add_box(m, Eigen::Vector3d(x, 0, 0), Eigen::Vector3d(x + 0.4, 2, 0.4));
+    test::add_box(m, Eigen::Vector3d(x, 2, 0), Eigen::Vector3d(x + 0.4, 2 + caps[i], 0.4));
+  }
+  auto an = analyze(m);
+  REQUIRE(an.ok());
+  const Lattice& L = an->lattice;
+  int axis = -1;
+  for (int b = 0; b < 3; ++b)
+    if (!L.dummy[b] && std::abs(std::abs(L.A.col(b).x()) - 1) < 1e-4) axis = b;
+  REQUIRE(axis >= 0);
+  REQUIRE(L.cells[axis] == int(caps.size()));
+  return {cell_structure(m, *an, L), axis};
+}
+
+}  // namespace
+
+TEST_CASE("structure: copies farther apart decide an axis only where nothing else could repeat",
+          "[structure]") {
+  // Posts 1 and 5 alike, the three between them and the two ends each of its own: 1 and 5 repeat, 2-4 are
+  // one part at the centre.
+  {
+    const auto [st, a] = capped_posts({0.1, 0.3, 0.5, 0.7, 0.9, 0.3, 1.1});
+    CHECK(st.far_copies[std::size_t(a)]);
+    CHECK(st.copy_of[std::size_t(a)] == std::vector<int>{-1, 5, -1, -1, -1, 1, -1});
+    const SingularPart* middle = st.part_of(a, 3);
+    REQUIRE(middle);
+    CHECK(middle->first == 2);
+    CHECK(middle->last == 4);
+    CHECK(middle->anchor == PartAnchor::centre);
+  }
+  // Posts 1 and 3 alike, 2 apart (A B A: which of them repeats is not decided), and 1 and 5 too.
+  {
+    const auto [st, a] = capped_posts({0.1, 0.3, 0.5, 0.3, 0.9, 0.3, 1.1});
+    CHECK_FALSE(st.far_copies[std::size_t(a)]);
+    CHECK(st.undecided[std::size_t(a)]);
+  }
+  // Posts 1, 2 alike to 4, 5: a block of two that recurs 3 apart, as a period of 3 would.
+  {
+    const auto [st, a] = capped_posts({0.1, 0.3, 0.5, 0.7, 0.3, 0.5, 0.9, 1.1});
+    CHECK_FALSE(st.far_copies[std::size_t(a)]);
+    CHECK(st.undecided[std::size_t(a)]);
+  }
 }
 
 TEST_CASE("structure: two whole cells inside the model that are no copies leave the axis undecided, even where an "

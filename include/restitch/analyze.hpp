@@ -572,7 +572,7 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       int from = -1;
     };
     std::vector<Guess> guesses;
-    if (st.undecided[std::size_t(k)]) {
+    if (st.undecided[std::size_t(k)] || st.far_copies[std::size_t(k)]) {
       for (int m = 2; m <= 4; ++m)
         if (2 * m * t.norm() <= extent + 1e-9) guesses.push_back({t * double(m), m, -1});
     } else {

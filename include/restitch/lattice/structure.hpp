@@ -11,7 +11,9 @@
 // column). So a slot next to each end, whose modules are copies of each other but not of the periodic
 // plain modules between them, occurs once at each end. Neighbours whose content does not change along the
 // axis (a housing's plain wall past its last pin: copies at any shift, so no sign of the period) are not
-// taken as repeating. Along an axis of three cells or more where no two neighbours are copies (three
+// taken as repeating. Where no two neighbours are copies, slabs farther apart that are, around slabs
+// that are copies of none, repeat (a box header of five columns: its two plain ones around the notch;
+// CellStructure::far_copies). Along an axis of three cells or more where nothing repeats so (three
 // modules, a slot next to each end around one plain one; a key notch that reaches every column) whole
 // periods cannot tell what occurs once: the axis is *undecided* and resized as the paper does, with a
 // warning, from three whole slabs between the end planes, or two of which one is inside the model. Two
@@ -39,8 +41,9 @@
 // Cost: an AABB tree over the triangles (O(#F log #F)), then bounded point-to-surface queries: two per
 // dense sample and axis for the neighbours, one per sample of two neighbours found copies (the plain
 // test), a test that stops at its first sample off the surface per other slab a slab that does not
-// repeat next door is compared with, and, in an end part of three slabs or more, per phase one sample
-// spacing apart, two such tests on windows of one period (a run of the repeat out of phase inside it).
+// repeat next door is compared with (every pair of slabs where none does), and, in an end part of three
+// slabs or more, per phase one sample spacing apart, two such tests on windows of one period (a run of
+// the repeat out of phase inside it).
 // Once per Retargeter.
 #pragma once
 
@@ -93,6 +96,9 @@ struct CellStructure {
   std::array<std::vector<int>, 3> copy_of;
   /// Per axis: no two neighbouring slabs are copies, so what occurs once is not decided (no parts).
   std::array<bool, 3> undecided{{false, false, false}};
+  /// Per axis: no two neighbouring slabs are copies, but slabs farther apart are, around content that
+  /// occurs once, and they were taken as what repeats (docs/method.md 2.10).
+  std::array<bool, 3> far_copies{{false, false, false}};
   std::vector<SingularPart> parts;  ///< by axis, then index
   Eigen::Array3i cells = Eigen::Array3i::Ones();
   /// Per axis: the model's extent in canonical coordinates (its samples' lowest and highest).
@@ -274,14 +280,14 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     // sample spacing (a period is at least a spacing, 1.12), and at least twice the tolerance, so that a
     // surface across a moved by it lands off itself.
     const double slide = std::max(0.5 * spacing, 2 * s.tolerance) / v.norm();
-    const auto plain = [&](int i) {
-      for (const auto& [from, shift] : {std::pair<int, double>{i, slide}, std::pair<int, double>{i + 1, -slide}})
-        for (const std::size_t k : slab[std::size_t(from)]) {
-          const double t = canonical[k][a] + shift;
-          if (t >= lo_cmp && t < hi_cmp && off_surface(k, shift)) return false;
-        }
+    const auto plain_shift = [&](int from, double shift) {
+      for (const std::size_t k : slab[std::size_t(from)]) {
+        const double t = canonical[k][a] + shift;
+        if (t >= lo_cmp && t < hi_cmp && off_surface(k, shift)) return false;
+      }
       return true;
     };
+    const auto plain = [&](int i) { return plain_shift(i, slide) && plain_shift(i + 1, -slide); };
     std::vector<int>& copy_of = s.copy_of[std::size_t(a)];
     copy_of.assign(std::size_t(n), -1);
     for (int i = 0; i + 1 < n; ++i)
@@ -290,6 +296,34 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         copy_of[std::size_t(i + 1)] = i;
       }
     if (std::count(copy_of.begin(), copy_of.end(), -1) == n) {  // nothing repeats next door
+      // Copies farther apart (docs/method.md 2.10): a box header of five columns (plain, notch edge, notch,
+      // notch edge, plain) has its two plain columns 4 apart and no copies next door. They are taken as what
+      // repeats, the only reading in which anything does, unless
+      //   * two slabs 2 apart are copies (A B A: a connector's middle module repeats where a header's ends
+      //     do; or two alternating parts, 1.12's multiple), or
+      //   * two neighbouring slabs are copies of two neighbouring slabs as far away (a block that recurs: its
+      //     length is the period, as with the alternately mirrored panels of a folding screen), or
+      //   * no slab between two copies is a copy of none (nothing occurs once between them).
+      std::vector<std::pair<int, int>> far;
+      bool decided = true;
+      for (int i = 0; i < n && decided; ++i)
+        for (int j = i + 2; j < n && decided; ++j) {
+          if (!copies(i, j) || plain_shift(i, slide)) continue;
+          decided = j > i + 2 && std::find(far.begin(), far.end(), std::pair<int, int>{i - 1, j - 1}) == far.end();
+          far.push_back({i, j});
+        }
+      if (!decided) far.clear();
+      for (const auto& [i, j] : far) {
+        if (copy_of[std::size_t(i)] < 0) copy_of[std::size_t(i)] = j;
+        if (copy_of[std::size_t(j)] < 0) copy_of[std::size_t(j)] = i;
+      }
+      bool singular_between = false;
+      for (const auto& [i, j] : far)
+        for (int m = i + 1; m < j; ++m) singular_between = singular_between || copy_of[std::size_t(m)] < 0;
+      if (singular_between) s.far_copies[std::size_t(a)] = true;
+      else copy_of.assign(std::size_t(n), -1);
+    }
+    if (std::count(copy_of.begin(), copy_of.end(), -1) == n) {  // nothing repeats
       // Whole slabs between the end planes (they are consecutive): two end slabs are the model's two ends,
       // which the anchored ends and end caps keep (docs/method.md 2.3, 3); two whole slabs that are no
       // copies, one of them inside the model, or three, leave the axis undecided.
