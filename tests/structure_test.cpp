@@ -110,9 +110,11 @@ TEST_CASE("structure: the parts that occur once are found where the families put
         const SingularPart* p = st->part_of(f.axis, slab_of(f, block));
         REQUIRE(p);
         CHECK(p->anchor == anchor_named(part.anchor));
-        CHECK_FALSE(p->holds_run);  // every run is in phase with the cells
       }
     }
+    // Every run is in phase with the cells: no slab is one period of a run out of phase.
+    const std::vector<int>& copy_of = st->copy_of[std::size_t(f.axis)];
+    for (int i = 0; i < int(copy_of.size()); ++i) CHECK(copy_of[std::size_t(i)] != i);
     // Every other module repeats.
     for (int block = 0; block < f.sample.modules[0]; ++block) {
       bool in_part = false;
@@ -603,31 +605,57 @@ TEST_CASE("analysis: two equal runs of slats split by a rail have the slat pitch
   CHECK(recorded);
 }
 
-TEST_CASE("structure: a run of two slats out of phase with the cells is found in its part, and a resize is warned",
+TEST_CASE("structure: a run of two slats out of phase with the cells repeats, and grows with the other run",
           "[structure][samples]") {
   // 5 slats (3 below the rail) at a 0.0513 pitch with a 0.0773 rail, half a pitch longer than one: on the lower
-  // run's cells the upper run of 2 straddles the cell planes, no cell of it is slats alone, and it joins the
-  // rail and the top rail in the high end part, which the grow keeps whole (docs/method.md 2.10). The same
-  // shutter with a rail of a whole number of pitches (two, 0.1026) has its upper run in phase: no such part.
-  const std::map<std::string, double> lengths = {{"slats", 5},        {"pitch", 0.0513176},  {"width", 0.599398},
-                                                 {"stile", 0.0413209}, {"rail", 0.07726}, {"slat_thickness", 0.00753893}};
-  for (const double rail : {0.07726, 2 * 0.0513176}) {
-    INFO("rail " << rail);
-    std::map<std::string, double> params = lengths;
-    params["rail"] = rail;
-    const Family f = make("shutter", params);
+  // run's cells the upper run of 2 straddles the cell planes, no cell of it is a copy of another, and it made
+  // one high end part with the rail and the top rail, kept whole: the grow to 7 put both new slats in the lower
+  // run (docs/method.md 2.10). The slab inside the run's two windows is one period of it: it repeats, the part
+  // is split around it, and every resize is the family's at that count, in place. The shutter's defaults
+  // (a 0.06 rail at a 0.07 pitch: the upper run 0.01 out of phase, under two sample spacings) have no such
+  // slab, and are exact too.
+  const std::map<std::string, double> off = {{"slats", 5},        {"pitch", 0.0513176},  {"width", 0.599398},
+                                             {"stile", 0.0413209}, {"rail", 0.07726}, {"slat_thickness", 0.00753893}};
+  const std::map<std::string, double> defaults = {{"slats", 5}, {"pitch", 0.07}, {"rail", 0.06}};
+  for (const auto* params : {&off, &defaults}) {
+    const double pitch = params->at("pitch"), rail = params->at("rail");
+    INFO("pitch " << pitch << ", rail " << rail);
+    const Family f = make("shutter", *params);
     REQUIRE(f.axis >= 0);
+    REQUIRE(std::abs(f.analysis.lattice.A.col(f.axis).norm() - pitch) < 1e-4);
     Retargeter<> r(f.sample.mesh, f.analysis);
     REQUIRE(r.structure());
-    bool holds = false;
-    for (const SingularPart& p : r.structure()->parts)
-      if (p.axis == f.axis && p.holds_run) {
-        holds = true;
-        CHECK(p.last - p.first >= 2);
-      }
-    const bool out_of_phase = rail < 0.1;
-    CHECK(holds == out_of_phase);
-    CHECK(grown_warned(r, f.axis, "run out of phase") == out_of_phase);
+    const CellStructure& st = *r.structure();
+    const std::vector<int>& copy_of = st.copy_of[std::size_t(f.axis)];
+    std::vector<int> run;  // the slabs that are one period of a run out of phase
+    for (int i = 0; i < int(copy_of.size()); ++i)
+      if (copy_of[std::size_t(i)] == i) run.push_back(i);
+    // The slab at height y (the family's: slat i's middle at rail + (i + 1/2) pitch, plus a rail above the
+    // middle one, from slat 3 on; the top rail above slat 4).
+    const auto slab_at = [&](double y) {
+      const Eigen::Vector3d c = f.analysis.lattice.to_canonical(Eigen::Vector3d(0.3, y, 0));
+      return int(std::floor(c[f.axis]));
+    };
+    if (params == &off) {
+      REQUIRE(run.size() == 1);
+      CHECK(run[0] >= slab_at(2 * rail + 3.5 * pitch));  // in the upper run, between its two slats' middles
+      CHECK(run[0] <= slab_at(2 * rail + 4.5 * pitch));
+      CHECK_FALSE(st.part_of(f.axis, run[0]));
+      CHECK(st.part_of(f.axis, slab_at(2 * rail + 5 * pitch + 0.5 * rail)));  // the top rail stays a part
+    } else {
+      CHECK(run.empty());
+    }
+    for (const int m : {4, 6, 7}) {
+      INFO("to " << m);
+      Eigen::Array3i steps = Eigen::Array3i::Zero();
+      steps[f.axis] = m - 5;
+      auto out = r.retarget(steps);
+      REQUIRE(out.ok());
+      CHECK_FALSE(centred_part_warned(out->report));
+      std::map<std::string, double> at = *params;
+      at["slats"] = m;
+      check_in_place(out->mesh, families::generate("shutter", at)->mesh);
+    }
   }
 }
 
@@ -703,7 +731,6 @@ TEST_CASE("structure: one axis alone (only_axis) is that axis of the whole struc
         CHECK(a[i]->anchor == b[i]->anchor);
         CHECK(a[i]->offset == b[i]->offset);
         CHECK(a[i]->repeated == b[i]->repeated);
-        CHECK(a[i]->holds_run == b[i]->holds_run);
       }
     }
     CHECK(compared >= 1);

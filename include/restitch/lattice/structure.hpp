@@ -42,8 +42,8 @@
 // dense sample and axis for the neighbours, one per sample of two neighbours found copies (the plain
 // test), a test that stops at its first sample off the surface per other slab a slab that does not
 // repeat next door is compared with (every pair of slabs where none does), and, in an end part of three
-// slabs or more, per phase one sample spacing apart, two such tests on windows of one period (a run of
-// the repeat out of phase inside it).
+// slabs or more, per phase one sample spacing apart, three such tests on windows of one period (a run of
+// the repeat out of phase inside it, whose middle slab then repeats: the part is split around it).
 // Once per Retargeter.
 #pragma once
 
@@ -83,16 +83,12 @@ struct SingularPart {
   /// counterpart): content that occurs more than once, which a period that makes it a part has missed
   /// (docs/method.md 1.12).
   bool repeated = false;
-  /// An end part of three slabs or more in which two neighbouring windows of one period, at a phase other
-  /// than the cells', are copies and not plain: it holds a run of the repeat out of phase with the lattice
-  /// (slats past a rail whose length is no whole number of pitches), which is kept as it is, so that run
-  /// does not grow with the others (docs/method.md 2.10).
-  bool holds_run = false;
 };
 
 struct CellStructure {
-  /// Per lattice axis, per slab: the slab it was found a copy of (its neighbours first), or -1 when it
-  /// does not repeat; empty along an axis of one cell and along dummy axes.
+  /// Per lattice axis, per slab: the slab it was found a copy of (its neighbours first), itself for the
+  /// slab of a run out of phase (one period of it: docs/method.md 2.10), or -1 when it does not repeat;
+  /// empty along an axis of one cell and along dummy axes.
   std::array<std::vector<int>, 3> copy_of;
   /// Per axis: no two neighbouring slabs are copies, so what occurs once is not decided (no parts).
   std::array<bool, 3> undecided{{false, false, false}};
@@ -371,51 +367,61 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         }
       return lo_t <= hi_t ? 0.5 * (lo_t + hi_t) : 0.5 * double(first + last + 1);
     };
-    for (int i = 0; i < n;) {
-      if (copy_of[std::size_t(i)] >= 0) {
-        ++i;
-        continue;
+    // The parts along a: the runs of slabs that do not repeat (built again below when a run out of phase
+    // splits one).
+    const auto find_parts = [&]() {
+      s.parts.erase(std::remove_if(s.parts.begin(), s.parts.end(), [a](const SingularPart& p) { return p.axis == a; }),
+                    s.parts.end());
+      for (int i = 0; i < n;) {
+        if (copy_of[std::size_t(i)] >= 0) {
+          ++i;
+          continue;
+        }
+        SingularPart p;
+        p.axis = a;
+        p.first = i;
+        while (i + 1 < n && copy_of[std::size_t(i + 1)] < 0) ++i;
+        p.last = i++;
+        const double centre = content_centre(p.first, p.last), to_low = centre - m0, to_high = m1 - centre;
+        p.offset = 0.5 * (to_low - to_high);
+        p.precision = s.spacing[a];
+        if (p.first == 0)
+          p.anchor = PartAnchor::low;
+        else if (p.last == n - 1)
+          p.anchor = PartAnchor::high;
+        else if (std::abs(p.offset) <= s.centre_band(a))
+          p.anchor = PartAnchor::centre;
+        else
+          p.anchor = to_low < to_high ? PartAnchor::low : PartAnchor::high;
+        s.parts.push_back(p);
       }
-      SingularPart p;
-      p.axis = a;
-      p.first = i;
-      while (i + 1 < n && copy_of[std::size_t(i + 1)] < 0) ++i;
-      p.last = i++;
-      const double centre = content_centre(p.first, p.last), to_low = centre - m0, to_high = m1 - centre;
-      p.offset = 0.5 * (to_low - to_high);
-      p.precision = s.spacing[a];
-      if (p.first == 0)
-        p.anchor = PartAnchor::low;
-      else if (p.last == n - 1)
-        p.anchor = PartAnchor::high;
-      else if (std::abs(p.offset) <= s.centre_band(a))
-        p.anchor = PartAnchor::centre;
-      else
-        p.anchor = to_low < to_high ? PartAnchor::low : PartAnchor::high;
-      s.parts.push_back(p);
-    }
-    // Parts that are copies of the next one along a (docs/method.md 1.12): the same number of slabs, each a
-    // copy of its counterpart.
-    for (std::size_t i = s.parts.size(); i-- > 0;) {
-      SingularPart& p = s.parts[i];
-      if (p.axis != a || i + 1 >= s.parts.size() || s.parts[i + 1].axis != a) continue;
-      SingularPart& q = s.parts[i + 1];
-      if (q.last - q.first != p.last - p.first) continue;
-      bool same = true;
-      for (int j = p.first; j <= p.last && same; ++j) same = copies(j, j + (q.first - p.first));
-      if (same) p.repeated = q.repeated = true;
-    }
+      // Parts that are copies of the next one along a (docs/method.md 1.12): the same number of slabs, each a
+      // copy of its counterpart.
+      for (std::size_t i = s.parts.size(); i-- > 0;) {
+        SingularPart& p = s.parts[i];
+        if (p.axis != a || i + 1 >= s.parts.size() || s.parts[i + 1].axis != a) continue;
+        SingularPart& q = s.parts[i + 1];
+        if (q.last - q.first != p.last - p.first) continue;
+        bool same = true;
+        for (int j = p.first; j <= p.last && same; ++j) same = copies(j, j + (q.first - p.first));
+        if (same) p.repeated = q.repeated = true;
+      }
+    };
+    find_parts();
     // A run out of phase inside an end part: windows of one period at a phase other than the cells', each
     // short of one sample spacing at both ends (a run of exactly two fills its two windows at one phase only,
     // which a sweep in steps of a spacing would miss), whose samples moved onto each other land on the
     // surface, and whose content changes along a (the plain test above, on the first window). An end part
     // only: what a part kept at the centre holds is kept there whole on purpose (the pins inside a centred
     // key notch repeat, and the notch must not widen), while a run at an end, past a rail, is a run the
-    // grow leaves out. Two windows, so three slabs at least; at the cells' own phase (within two spacings)
-    // the windows are the part's slabs, no copies.
+    // grow would leave out. Two windows, so three slabs at least; at the cells' own phase (within two
+    // spacings) the windows are the part's slabs, no copies. The one slab that lies inside the two windows
+    // is one period of the run (its copy one period on continues it), so it repeats (copy_of: itself), and
+    // the part is split around it: the run grows with the others.
     std::vector<std::size_t> order;  // the compared samples by position along a, built for the first such part
     const double step = std::max(s.spacing[a], 1e-3);
-    for (SingularPart& p : s.parts) {
+    std::vector<int> run_slabs;  // per run found, the slab inside its two windows
+    for (const SingularPart& p : s.parts) {
       if (p.axis != a || p.last - p.first < 2 || (p.first > 0 && p.last < n - 1)) continue;
       if (order.empty()) {
         for (int i = 0; i < n; ++i) order.insert(order.end(), slab[std::size_t(i)].begin(), slab[std::size_t(i)].end());
@@ -436,12 +442,15 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         return i0 < i1;
       };
       const double low = std::max(double(p.first), lo_cmp), high = std::min(double(p.last + 1), hi_cmp);
-      for (double w = low - step; w + 2 - step <= high && !p.holds_run; w += step) {
+      for (double w = low - step; w + 2 - step <= high; w += step) {
         const double phase = w - std::floor(w);
-        if (std::min(phase, 1 - phase) < 2 * step || !land(w, 1) || !land(w + 1, -1)) continue;
-        p.holds_run = !land(w, slide);  // the content changes along a
+        if (std::min(phase, 1 - phase) < 2 * step || !land(w, 1) || !land(w + 1, -1) || land(w, slide)) continue;
+        run_slabs.push_back(int(std::ceil(w)));  // inside the part: w lies 2 spacings or more off a cell plane
+        break;
       }
     }
+    for (const int i : run_slabs) copy_of[std::size_t(i)] = i;
+    if (!run_slabs.empty()) find_parts();
   }
   return s;
 }

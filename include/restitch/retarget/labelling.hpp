@@ -27,10 +27,9 @@ namespace restitch {
 
 /// The parts that occur once (`structure`, null for none; docs/method.md 2.10) in a resize by grid steps k:
 /// rep.parts gets each part along a resized axis with the shift that keeps it, rep.warnings a sentence for
-/// a centred part the resize puts farther off the centre than it was (half a period), for a part that holds
-/// a run out of phase (SingularPart::holds_run) and for an undecided axis (CellStructure::undecided). Refused
-/// (invalid_argument): a shrink whose parts would not fit apart (parts_fit), saying how many steps can be
-/// removed.
+/// a centred part the resize puts farther off the centre than it was (half a period) and for an undecided
+/// axis (CellStructure::undecided). Refused (invalid_argument): a shrink whose parts would not fit apart
+/// (parts_fit), saying how many steps can be removed.
 template <class = void>
 Status plan_parts(const CellStructure* structure, const Eigen::Array3i& k, RetargetReport& rep) {
   if (!structure) return {};
@@ -56,10 +55,6 @@ Status plan_parts(const CellStructure* structure, const Eigen::Array3i& k, Retar
       if (p.axis != a) continue;
       const int d = CellStructure::shift_of(p, k[a]);
       rep.parts.push_back({p.axis, p.first, p.last, p.anchor, d});
-      if (p.holds_run)
-        rep.warnings.push_back({"run out of phase", "the part at " + describe_part(p) + " holds a run of the repeat "
-                               "out of phase with the cells (a rail between runs that is no whole number of periods "
-                               "long?); it is kept as it is, so that run does not grow or shrink: look at the result"});
       if (p.anchor == PartAnchor::centre && std::abs(CellStructure::offset_after(p, k[a])) > std::abs(p.offset) + 1e-9)
         rep.warnings.push_back({"part off centre", "the part at " + describe_part(p) + " is centred in the model; resized by " +
                                std::to_string(k[a]) + " steps it lies half a period off the centre (whole periods "
