@@ -543,13 +543,16 @@ bool repeated_inner_part(const CellStructure& s, int a) {
 }
 
 /// docs/method.md 1.12: each principal offset t checked against the structure of the model on its
-/// lattice. Where no two neighbouring cells are copies (the axis is undecided), the shortest m t, m = 2..4,
-/// at which some are, with at least two cells; otherwise the shortest t / m, m = max_divisor..2, at least
-/// one dense spacing long, whose copies pair vertex for vertex (snap_offset), some of whose
-/// neighbouring cells are copies, whose repeating cells cover at least as much of the model as t's, one period of t aside (the ends' slabs fall
-/// differently), and which has no more parts that occur once inside the model (not at an end) than t. The first that qualifies replaces t (snapped), and the dominant offset it came from gets
-/// its divisor (or multiple) and a test record "structure_divisor" / "structure_multiple". `vertices`: the
-/// unique vertex positions (normalized); nothing is done without them.
+/// lattice. Where no two neighbouring cells are copies (the axis is undecided, or decided by copies farther
+/// apart only), the shortest m t, m = 2..4, at which some are, with at least two cells; otherwise the
+/// shortest t / m, m = max_divisor..2, at least one dense spacing long, whose copies pair vertex for vertex
+/// (snap_offset), some of whose neighbouring cells are copies, whose repeating cells cover at least as much
+/// of the model as t's, one period of t aside (the ends' slabs fall differently), and which has no more
+/// parts that occur once inside the model (not at an end) than t; then the shorter repeats along t that
+/// divide nothing (the run of slats with its rail). The first that qualifies replaces t (snapped), and the
+/// dominant offset it came from gets its divisor (or multiple) and a test record "structure_divisor" /
+/// "structure_multiple" / "structure_shorter". `vertices`: the unique vertex positions (normalized);
+/// nothing is done without them.
 template <class D, class M, class Det>
 Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
                       const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices,
