@@ -363,24 +363,28 @@ TEST_CASE("structure: copies farther apart than neighbours repeat, around the co
 
 namespace {
 
-// Posts one apart along x, each under a cap of its own height (so no two neighbours are copies), `caps[i]` the
-// height of post i's cap; equal heights make copies. The structure along the posts' axis, and that axis.
-std::pair<CellStructure, int> capped_posts(const std::vector<double>& caps) {
+// Posts one apart along x, 2 tall, post i under a cap `caps[i]` tall (none for 0); equal caps make copies.
+struct Posts {
+  Lattice lattice;
+  CellStructure st;
+  int axis = -1;  // the lattice axis along x
+};
+Posts capped_posts(const std::vector<double>& caps) {
   Mesh m;
   for (std::size_t i = 0; i < caps.size(); ++i) {
     const double x = double(i);
     test::add_box(m, Eigen::Vector3d(x, 0, 0), Eigen::Vector3d(x + 0.4, 2, 0.4));
-    test::add_box(m, Eigen::Vector3d(x, 2, 0), Eigen::Vector3d(x + 0.4, 2 + caps[i], 0.4));
+    if (caps[i] > 0) test::add_box(m, Eigen::Vector3d(x, 2, 0), Eigen::Vector3d(x + 0.4, 2 + caps[i], 0.4));
   }
   auto an = analyze(m);
   REQUIRE(an.ok());
-  const Lattice& L = an->lattice;
-  int axis = -1;
+  Posts p{an->lattice, {}, -1};
   for (int b = 0; b < 3; ++b)
-    if (!L.dummy[b] && std::abs(std::abs(L.A.col(b).x()) - 1) < 1e-4) axis = b;
-  REQUIRE(axis >= 0);
-  REQUIRE(L.cells[axis] == int(caps.size()));
-  return {cell_structure(m, *an, L), axis};
+    if (!p.lattice.dummy[b] && std::abs(std::abs(p.lattice.A.col(b).x()) - 1) < 1e-4) p.axis = b;
+  REQUIRE(p.axis >= 0);
+  REQUIRE(p.lattice.cells[p.axis] == int(caps.size()));
+  p.st = cell_structure(m, *an, p.lattice);
+  return p;
 }
 
 }  // namespace
@@ -390,10 +394,11 @@ TEST_CASE("structure: copies farther apart decide an axis only where nothing els
   // Posts 1 and 5 alike, the three between them and the two ends each of its own: 1 and 5 repeat, 2-4 are
   // one part at the centre.
   {
-    const auto [st, a] = capped_posts({0.1, 0.3, 0.5, 0.7, 0.9, 0.3, 1.1});
-    CHECK(st.far_copies[std::size_t(a)]);
-    CHECK(st.copy_of[std::size_t(a)] == std::vector<int>{-1, 5, -1, -1, -1, 1, -1});
-    const SingularPart* middle = st.part_of(a, 3);
+    const Posts p = capped_posts({0.1, 0.3, 0.5, 0.7, 0.9, 0.3, 1.1});
+    const std::size_t a = std::size_t(p.axis);
+    CHECK(p.st.far_copies[a]);
+    CHECK(p.st.copy_of[a] == std::vector<int>{-1, 5, -1, -1, -1, 1, -1});
+    const SingularPart* middle = p.st.part_of(p.axis, 3);
     REQUIRE(middle);
     CHECK(middle->first == 2);
     CHECK(middle->last == 4);
@@ -401,15 +406,15 @@ TEST_CASE("structure: copies farther apart decide an axis only where nothing els
   }
   // Posts 1 and 3 alike, 2 apart (A B A: which of them repeats is not decided), and 1 and 5 too.
   {
-    const auto [st, a] = capped_posts({0.1, 0.3, 0.5, 0.3, 0.9, 0.3, 1.1});
-    CHECK_FALSE(st.far_copies[std::size_t(a)]);
-    CHECK(st.undecided[std::size_t(a)]);
+    const Posts p = capped_posts({0.1, 0.3, 0.5, 0.3, 0.9, 0.3, 1.1});
+    CHECK_FALSE(p.st.far_copies[std::size_t(p.axis)]);
+    CHECK(p.st.undecided[std::size_t(p.axis)]);
   }
   // Posts 1, 2 alike to 4, 5: a block of two that recurs 3 apart, as a period of 3 would.
   {
-    const auto [st, a] = capped_posts({0.1, 0.3, 0.5, 0.7, 0.3, 0.5, 0.9, 1.1});
-    CHECK_FALSE(st.far_copies[std::size_t(a)]);
-    CHECK(st.undecided[std::size_t(a)]);
+    const Posts p = capped_posts({0.1, 0.3, 0.5, 0.7, 0.3, 0.5, 0.9, 1.1});
+    CHECK_FALSE(p.st.far_copies[std::size_t(p.axis)]);
+    CHECK(p.st.undecided[std::size_t(p.axis)]);
   }
 }
 
@@ -662,20 +667,10 @@ TEST_CASE("structure: a run of two slats out of phase with the cells repeats, an
 TEST_CASE("structure: a part that is a copy of the next part is marked repeated, a part alone is not", "[structure]") {
   // Ten posts one apart; posts 2 and 6 carry the same cap, post 8 a taller one. On the posts' period the
   // three capped posts are parts (no neighbour is a copy); the caps of 2 and 6 are copies of each other.
-  Mesh m;
-  for (int i = 0; i < 10; ++i) {
-    test::add_box(m, Eigen::Vector3d(i, 0, 0), Eigen::Vector3d(i + 0.4, 2, 0.4));
-    if (i == 2 || i == 6) test::add_box(m, Eigen::Vector3d(i, 2, 0), Eigen::Vector3d(i + 0.4, 2.3, 0.4));
-    if (i == 8) test::add_box(m, Eigen::Vector3d(i, 2, 0), Eigen::Vector3d(i + 0.4, 2.6, 0.4));
-  }
-  auto a = analyze(m);
-  REQUIRE(a.ok());
-  const Lattice& L = a->lattice;
-  int axis = -1;
-  for (int b = 0; b < 3; ++b)
-    if (!L.dummy[b] && std::abs(std::abs(L.A.col(b).x()) - 1) < 1e-4) axis = b;
-  REQUIRE(axis >= 0);
-  const CellStructure st = cell_structure(m, *a, L);
+  const Posts posts = capped_posts({0, 0, 0.3, 0, 0, 0, 0.3, 0, 0.6, 0});
+  const Lattice& L = posts.lattice;
+  const CellStructure& st = posts.st;
+  const int axis = posts.axis;
   const auto part_at = [&](int post) {
     const Eigen::Vector3d c = L.to_canonical(Eigen::Vector3d(post + 0.2, 1, 0.2));
     return st.part_of(axis, std::clamp(int(std::floor(c[axis])), 0, L.cells[axis] - 1));
