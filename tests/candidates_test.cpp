@@ -179,7 +179,7 @@ TEST_CASE("promote_offsets: an empty list restores the detected offsets; bad req
   for (const DominantOffset& d : a.dominant) CHECK(!d.promoted);
 }
 
-TEST_CASE("fences of 2 and 3 pickets: no vote for the picket pitch, but the vertices repeat at it, a candidate that "
+TEST_CASE("fences of 2 and 3 pickets: no vote for the picket pitch, but the vertices repeat at it, a repeat that "
           "resizes them into the real fences",
           "[candidates][retarget]") {
   // The pickets' features match each other up and down their own uniform sides, and the rails are one pair
@@ -197,21 +197,37 @@ TEST_CASE("fences of 2 and 3 pickets: no vote for the picket pitch, but the vert
     REQUIRE(fence.ok());
     const Vector3d pitch = fence->generators[0];
     Analysis a = *analyze(fence->mesh);
-    for (const Vector3d& p : a.principal_model_units()) CHECK(world_axis_of(p) != 0);
-    const std::vector<int> use = a.candidates_for_axes({{true, false, false}});
-    REQUIRE(use.size() == 1);
-    const RepeatCandidate& c = a.candidates[std::size_t(use[0])];
-    CHECK(c.reason == "vertices");
-    CHECK(c.copies >= 2);
-    CHECK(recovered(pitch, {a.model_units(c)}, 1e-5, 0.01));
-    REQUIRE(c.dominant >= 0);
-    const DominantOffset& d = a.dominant[std::size_t(c.dominant)];
-    CHECK(d.votes == 0);
-    CHECK(d.from_vertices());
-    // Promoted as `restitch resize --size` does: the candidate's offset in model units.
-    REQUIRE(promote_offsets(fence->mesh, AnalysisOptions<>{}, {a.model_units(c)}, a).ok());
-    REQUIRE(!a.principal.empty());
-    CHECK(recovered(pitch, {a.principal_model_units()[0]}, 1e-5, 0.01));
+    // Three pickets are a pattern on the surface at the pitch (docs/method.md 1.14, vertex_pattern): the
+    // repeat of the vertices is a principal offset. Two are not (a pattern holds at twice its offset): a
+    // candidate, promoted as `restitch resize --size` does.
+    std::size_t along = 0;  // the pitch's index among the principal offsets
+    if (n == 3) {
+      const std::vector<Vector3d> principal = a.principal_model_units();
+      while (along < principal.size() && !recovered(pitch, {principal[along]}, 1e-5, 0.01)) ++along;
+      REQUIRE(along < principal.size());
+      const DominantOffset& d = a.dominant[std::size_t(a.axes.source[along])];
+      CHECK(d.votes == 0);
+      CHECK(d.from_vertices());
+      CHECK(d.significant);
+      CHECK(a.candidates_for_axes({{true, false, false}}).empty());
+    } else {
+      for (const Vector3d& p : a.principal_model_units()) CHECK(world_axis_of(p) != 0);
+      const std::vector<int> use = a.candidates_for_axes({{true, false, false}});
+      REQUIRE(use.size() == 1);
+      const RepeatCandidate& c = a.candidates[std::size_t(use[0])];
+      CHECK(c.reason == "vertices");
+      CHECK(c.copies >= 2);
+      CHECK(recovered(pitch, {a.model_units(c)}, 1e-5, 0.01));
+      REQUIRE(c.dominant >= 0);
+      const DominantOffset& d = a.dominant[std::size_t(c.dominant)];
+      CHECK(d.votes == 0);
+      CHECK(d.from_vertices());
+      CHECK_FALSE(d.significant);
+      // Promoted: the candidate's offset in model units, first.
+      REQUIRE(promote_offsets(fence->mesh, AnalysisOptions<>{}, {a.model_units(c)}, a).ok());
+      REQUIRE(!a.principal.empty());
+      CHECK(recovered(pitch, {a.principal_model_units()[0]}, 1e-5, 0.01));
+    }
     Retargeter<> r(fence->mesh, a);
     REQUIRE(r.status().ok());
     for (const int more : {1, 2, -1}) {
@@ -220,7 +236,7 @@ TEST_CASE("fences of 2 and 3 pickets: no vote for the picket pitch, but the vert
       params["pickets"] = n + more;
       const auto want = families::generate("fence", params);
       std::vector<int> steps(a.principal.size(), 0);
-      steps[0] = more;
+      steps[along] = more;
       const auto out = r.retarget(*lattice_steps_from_principal(a, steps));
       REQUIRE(out.ok());
       // The same fence: the real one's box and vertices are in the result, and their surfaces lie on each
@@ -252,4 +268,44 @@ TEST_CASE("a repeat of the vertices that is a detail of one part (three ribs at 
   std::vector<Vector3d> found = b->principal_model_units();
   for (const RepeatCandidate& c : b->candidates) found.push_back(b->model_units(c));
   CHECK(recovered(Vector3d(0.3, 0, 0), found, 1e-4, 0.01));
+}
+
+TEST_CASE("a size along an axis uses the candidate there with the most copies, and a multiple of a shorter "
+          "candidate is none",
+          "[candidates]") {
+  // Of a pair of five bays (listed first, as pairs are) and the bay the vertices repeat at forty times, a size
+  // along x uses the bay; of two candidates with as many copies, the first.
+  Analysis a;
+  RepeatCandidate five_bays, bay;
+  five_bays.offset = Vector3d(0.5, 0.05, 0), five_bays.copies = 2, five_bays.reason = "pair";
+  bay.offset = Vector3d(0.1, 0, 0), bay.copies = 40, bay.reason = "vertices";
+  a.candidates = {five_bays, bay};
+  CHECK(a.candidates_for_axes({{true, false, false}}) == std::vector<int>{1});
+  CHECK(a.candidates_for_axes({{false, true, true}}).empty());
+  a.candidates[1].copies = 2;
+  CHECK(a.candidates_for_axes({{true, false, false}}) == std::vector<int>{0});
+
+  // collect_candidates: a pair eight pitches long is a multiple of the pitch the vertices repeat at, listed
+  // after it, and is dropped; a pair off the pitch's line is not.
+  Analysis b;
+  DominantOffset pair, pitch, other;
+  pair.offset = Vector3d(0.8, 0, 0);
+  for (const char* t : {"votes", "overlap", "contrast"}) record_test(pair.tests, t, 1, 0);
+  record_test(pair.tests, "repeat", 0, 0.25);  // two copies: a pattern test failed
+  pitch.offset = Vector3d(0.1, 0, 0);
+  pitch.copies = 8;
+  record_test(pitch.tests, "vertex_lag", 100, 8);
+  record_test(pitch.tests, "vertex_structure", 1, 0.5);
+  record_test(pitch.tests, "pattern_contrast", 0, 0.01);  // no pattern on the surface: still a candidate
+  other = pair;
+  other.offset = Vector3d(0.8, 0.3, 0);
+  b.dominant = {pair, other, pitch};
+  REQUIRE(b.dominant[0].is_pair());
+  REQUIRE(b.dominant[2].from_vertices());
+  detail::collect_candidates(0.02, b);
+  REQUIRE(b.candidates.size() == 2);
+  CHECK(b.candidates[0].dominant == 1);
+  CHECK(b.candidates[1].dominant == 2);
+  CHECK(b.candidates[1].reason == "vertices");
+  CHECK(b.candidates[1].copies == 8);
 }

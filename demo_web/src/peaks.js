@@ -32,7 +32,10 @@ export function peakExplanation(analysis, i, units, longest) {
   const tests = (d.tests || []).map((t) =>
     [t.name, `${fmt(t.value, 4)} ${t.at_most ? '≤' : '≥'} ${fmt(t.threshold, 4)}`, t.passed ? 'passed' : 'FAILED']);
   const notes = [];
-  notes.push(d.rejected_by ? `rejected by ${d.rejected_by}`
+  const vertices = candidate >= 0 && analysis.candidates[candidate].reason === 'vertices';
+  notes.push(vertices ? 'a repeat of the vertices along an axis the matching found nothing on (no votes)' +
+      (d.rejected_by ? `, no pattern on the surface (${d.rejected_by})` : '')
+    : d.rejected_by ? `rejected by ${d.rejected_by}`
     : d.significant ? 'significant: passed every test'
     : 'a repeat of the vertices along an axis the matching found nothing on (no votes)');
   if (d.divisor > 1) notes.push(`divisor ${d.divisor}: the peak spans ${d.divisor} periods, this is one`);

@@ -42,6 +42,18 @@ test('a repeat of the vertices (no votes, no test failed, not significant) says 
                              'divisor 1', 'not promoted', 'candidate 1 (vertices, 2 copies): click to resize along it']);
 });
 
+test('a repeat of the vertices that is no pattern on the surface names the pattern test it failed', () => {
+  const twoRows = {
+    dominant_offsets: [{ offset: [0, 0, 2.54], votes: 0, divisor: 1, promoted: false, significant: false,
+                         rejected_by: 'pattern_double_drift',
+                         tests: [test_('vertex_lag', 1664, 8), test_('vertex_structure', 1, 0.5)] }],
+    candidates: [{ offset: [0, 0, 2.54], copies: 2, reason: 'vertices', dominant: 0 }],
+  };
+  const e = peakExplanation(twoRows, 0, 'mm', 60);
+  assert.equal(e.notes[0], 'a repeat of the vertices along an axis the matching found nothing on (no votes), ' +
+                           'no pattern on the surface (pattern_double_drift)');
+});
+
 test('a candidate reads offset, length, copies and reason', () => {
   assert.equal(candidateLabel(analysis.candidates[0], 'mm', 11.5), '(2.54, 0.00, 0.00) mm, 2.54 long, 2 copies, pair');
 });

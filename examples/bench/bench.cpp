@@ -24,6 +24,8 @@
 //    with its parameters
 // 9. vertex_repeats (not with --quick): the analysis time without and with the repeats of the vertices
 //    (docs/method.md 1.14), each family at its defaults and each real model of --models DIR
+// 10. long (not with --quick): every family at 12 to 40 modules, resized to n - 1 and n + 2 and judged as in 7,
+//    and whether the period found along its repeat is the family's
 //
 //   bench --only detectors     runs section 6 alone
 //
@@ -526,10 +528,20 @@ struct Prepared {
   int axis = -1;
 };
 
-Prepared prepare(const std::string& name, const std::map<std::string, double>& params) {
+// With `glb`, the sample is written to .glb and read back first (float positions), as a user's file is.
+Prepared prepare(const std::string& name, const std::map<std::string, double>& params, bool glb = false) {
   Prepared p;
   p.sample = families::generate(name, params);
   if (!p.sample.ok()) return p;
+  if (glb) {
+    auto bytes = save_glb_to_memory(p.sample->mesh);
+    auto mesh = bytes ? load_gltf_from_memory(bytes->data(), bytes->size()) : Result<Mesh>(bytes.status());
+    if (!mesh) {
+      p.sample = mesh.status();
+      return p;
+    }
+    p.sample->mesh = std::move(*mesh);
+  }
   const families::SampleModel& s = *p.sample;
   p.analysis = analyze(s.mesh);
   if (!p.analysis.ok()) return p;
@@ -689,6 +701,50 @@ void bench_parameters(nlohmann::json& out) {
   }
 }
 
+// Section 10: many copies. Each family at 12 to 40 modules (the counts it accepts), written to .glb and read back
+// as a user's file is, resized to the size of the
+// family at n - 1 and n + 2 modules, judged as in section 7, and the period along its repeat: 'p' when the
+// principal offset along the repeat (or the candidate promoted) is the family's generator within 1e-3 of it,
+// 'm' when it is another length, '-' when nothing runs along the repeat. A long model has its period short in
+// the normalized frame (docs/method.md 1.1: lengths scale with the longest side), where detection is weakest.
+void bench_long(nlohmann::json& out) {
+  std::printf("\n== many copies (n = 12..40 modules, read from .glb, to n - 1 and n + 2; period: p true, m another length)\n");
+  for (const std::string& name : count_families()) {
+    const std::string count = families::generate(name)->count_parameters[0];
+    Tally tally;
+    int wrong_period = 0;
+    std::string line;
+    for (const int n : {12, 16, 20, 24, 32, 40}) {
+      Prepared p = prepare(name, {{count, n}}, true);
+      if (!p.sample.ok()) continue;
+      const Eigen::Vector3d g = p.sample->generators[0];
+      char period = '-';
+      if (p.axis >= 0) {
+        const Eigen::Vector3d v = p.analysis->lattice.A.col(p.axis);  // model units
+        period = std::abs(std::abs(v.dot(g.normalized())) - g.norm()) < 1e-3 * g.norm() ? 'p' : 'm';
+      }
+      wrong_period += period != 'p';
+      std::optional<Retargeter<>> r;
+      if (p.axis >= 0) r.emplace(p.sample->mesh, *p.analysis);
+      char b[32];
+      std::snprintf(b, sizeof b, " %d:%c", n, period);
+      line += b;
+      for (const int m : {n - 1, n + 2}) {
+        auto truth = families::generate(name, {{count, m}});
+        if (!truth.ok()) continue;
+        const char c = p.axis < 0 ? 'A' : judge(*r, *p.sample, truth->mesh, tally);
+        ++tally.letters[c];
+        line += c;
+      }
+    }
+    std::printf("%-16s%s\n", name.c_str(), line.c_str());
+    print_tally(tally);
+    out["long"][name] = tally_json(tally);
+    out["long"][name]["wrong_period"] = wrong_period;
+    out["long"][name]["row"] = line;
+  }
+}
+
 // Section 9: what the repeats of the vertices (docs/method.md 1.14) cost the analysis: each family at its
 // defaults and each real model of `models`, analysed on one thread with AnalysisOptions::vertex_repeats off
 // and on (best of three each), and the candidates of reason "vertices" it gives.
@@ -754,7 +810,7 @@ int main(int argc, char** argv) {
     else
       return std::fprintf(stderr,
                           "usage: bench [--quick] [--json FILE] [--models DIR] [--only "
-                          "analysis|shot|comparison|scaling|synthetic|detectors|counts|parameters|vertex_repeats]\n"),
+                          "analysis|shot|comparison|scaling|synthetic|detectors|counts|parameters|vertex_repeats|long]\n"),
              2;
   }
   const auto run = [&](const char* section) { return only.empty() || only == section; };
@@ -773,6 +829,7 @@ int main(int argc, char** argv) {
   if (run("counts") && (!quick || only == "counts")) bench_counts(out);  // minutes: not in --quick
   if (run("parameters") && (!quick || only == "parameters")) bench_parameters(out);  // minutes: not in --quick
   if (run("vertex_repeats") && (!quick || only == "vertex_repeats")) bench_vertex_repeats(models, out);
+  if (run("long") && (!quick || only == "long")) bench_long(out);  // minutes: not in --quick
   std::ofstream(json_path) << out.dump(2) << "\n";
   std::printf("\nwrote %s\n", json_path.c_str());
   return 0;

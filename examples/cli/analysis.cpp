@@ -91,11 +91,14 @@ void print_dominant_offsets(const Analysis& a) {
   for (std::size_t i = 0; i < a.dominant.size(); ++i) {
     const DominantOffset& d = a.dominant[i];
     const OffsetTest* failed = d.failed_test();
-    std::printf("  dominant %zu: %s, %zu votes: %s%s\n", i + 1, v3(a.normalization.to_model_offset(d.offset)).c_str(),
+    // A repeat of the vertices that is no pattern on the surface (1.14) is a candidate, whatever test it failed.
+    const bool vertices = !d.significant && d.from_vertices();
+    std::printf("  dominant %zu: %s, %zu votes: %s%s%s\n", i + 1, v3(a.normalization.to_model_offset(d.offset)).c_str(),
                 d.votes,
-                failed ? "rejected by "
-                       : (d.significant ? "significant" : d.from_vertices() ? "a repeat of the vertices" : "not tested"),
-                failed ? failed->name.c_str() : "");
+                vertices ? "a repeat of the vertices"
+                : failed ? "rejected by "
+                         : (d.significant ? "significant" : "not tested"),
+                vertices && failed ? ", no pattern on the surface: " : "", failed ? failed->name.c_str() : "");
     for (const OffsetTest& t : d.tests)
       std::printf("      %-21s %9.4g %s %-9.4g %s\n", t.name.c_str(), t.value, t.at_most ? "<=" : ">=", t.threshold,
                   t.passed ? "passed" : "FAILED");

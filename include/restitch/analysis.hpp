@@ -76,8 +76,10 @@ struct Analysis {
     return out;
   }
   /// For a size change along the world axes marked in `change`: per such axis along which no principal
-  /// offset runs (world_axis_of), the index in `candidates` of the first candidate that runs along it,
-  /// in axis order; axes with neither are left out. The caller promotes them (promote_offsets) and says so.
+  /// offset runs (world_axis_of), the index in `candidates` of the candidate that runs along it with the
+  /// most copies (the first of those), in axis order; axes with neither are left out. Most copies: a pair
+  /// of five bays is outvoted by the bay the vertices repeat at, forty times. The caller promotes them
+  /// (promote_offsets) and says so.
   template <class = void>
   std::vector<int> candidates_for_axes(const std::array<bool, 3>& change) const {
     std::array<bool, 3> covered{{false, false, false}};
@@ -85,11 +87,12 @@ struct Analysis {
     std::vector<int> out;
     for (int axis = 0; axis < 3; ++axis) {
       if (!change[std::size_t(axis)] || covered[std::size_t(axis)]) continue;
+      int best = -1;
       for (std::size_t c = 0; c < candidates.size(); ++c)
-        if (world_axis_of(candidates[c].offset) == axis) {
-          out.push_back(int(c));
-          break;
-        }
+        if (world_axis_of(candidates[c].offset) == axis &&
+            (best < 0 || candidates[c].copies > candidates[std::size_t(best)].copies))
+          best = int(c);
+      if (best >= 0) out.push_back(best);
     }
     return out;
   }

@@ -184,11 +184,12 @@ struct AnalysisOptions {
   /// vertex and repeat as much of the model as t, or, where no two neighbouring cells of t are copies
   /// (modules of two alternating parts), the shortest m t (m up to 4) at which some are.
   bool verify_periods = true;
-  /// Along each world axis no principal offset or candidate runs along, the shifts at which the vertices
-  /// that shape the model repeat, checked against its structure: the shortest whose neighbouring cells are
-  /// copies over at least half of what lies between the end slabs becomes a candidate of reason "vertices"
-  /// (docs/method.md 1.14): a repeat the matching cast no vote for (three pickets between two posts), which a
-  /// size asked along that axis then uses.
+  /// Along each world axis no principal offset runs along, the shifts at which the vertices that shape the
+  /// model repeat, checked against its structure: the shortest whose neighbouring cells are copies over at
+  /// least half of what lies between the end slabs is a repeat the matching cast no vote for (three pickets
+  /// between two posts; the pitch of a long model, too short for the matching's scales): a principal offset
+  /// where the surface is a pattern at it, else a candidate of reason "vertices", which a size asked along
+  /// that axis then uses (docs/method.md 1.14).
   bool vertex_repeats = true;
   /// Make a pair (two copies: a candidate of reason "pair") significant when its copies are exact and make up
   /// at least half of the model: a quarter of the vertices pair, and a quarter of the surface area is
@@ -419,6 +420,17 @@ void collect_candidates(double tolerance, Analysis& a) {
       c.copies = kind == 0 ? 2 : kind == 1 ? std::max(3, int(std::lround((2 - r) / (1 - r)))) : d.copies;
       a.candidates.push_back(c);
     }
+  // A multiple of a shorter candidate is no repeat of its own: a pair of eight pins on a 32-pin connector,
+  // whose pitch the vertices repeat at (1.14), listed after it.
+  std::vector<RepeatCandidate> kept;
+  for (const RepeatCandidate& c : a.candidates) {
+    bool multiple = false;
+    for (const RepeatCandidate& e : a.candidates)
+      multiple = multiple || (e.offset.norm() < c.offset.norm() - tolerance &&
+                              is_lattice_vector(c.offset, {}, &e.offset, tolerance));
+    if (!multiple) kept.push_back(c);
+  }
+  a.candidates = std::move(kept);
 }
 
 /// The greedy principal offsets over the promoted offsets (first, in request order) and the
@@ -578,7 +590,11 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
     if (st.undecided[std::size_t(k)] || st.far_copies[std::size_t(k)]) {
       for (int m = 2; m <= 4; ++m)
         if (2 * m * t.norm() <= extent + 1e-9) guesses.push_back({t * double(m), m, -1});
-    } else {
+    }
+    // Copies farther apart decide an axis a multiple of the period may have decided as well: five pitches of a
+    // 24-column box header make the cells plain, notch edge, notch, notch edge, plain, whose two plain
+    // cells are copies; the pitch itself is a divisor, tried after the multiples.
+    if (!st.undecided[std::size_t(k)]) {
       for (int m = options.fundamental.max_divisor; m >= 2; --m)
         // At least one dense spacing: a slab that thin still holds samples of every surface crossing it (they
         // lie a spacing apart), which the copy test needs; the overlap's bound (fundamental.min_length) is for
@@ -702,15 +718,67 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
   return {};
 }
 
-/// docs/method.md 1.14: along each world axis w that no principal offset and no candidate runs along, the
-/// shifts at which the vertices that shape the model repeat (vertex_lags over shape_vertices, the four most
-/// paired), shortest first; the first that snaps onto the vertices along w, whose lattice (the principal
-/// offsets and it) has neighbouring cells along it that are copies, covering at least half of the slabs
-/// between the two end slabs, with no part that occurs twice inside the model, is added to the dominant
-/// offsets (votes 0, test records "vertex_lag", "vertex_copies", "vertex_structure";
-/// DominantOffset::from_vertices) and so
-/// becomes a candidate of reason "vertices". `vertices`: the unique vertex positions (normalized); nothing is
-/// done without them.
+/// The vertex features of an analysis (features [sampled_features, end)): the ICP anchors.
+template <class = void>
+PointSet vertex_anchors(const Analysis& a) {
+  PointSet v;
+  const Eigen::Index first = Eigen::Index(a.sampled_features), n = a.features.size() - first;
+  if (n <= 0) return v;
+  v.points = a.features.points.bottomRows(n);
+  v.normals = a.features.normals.bottomRows(n);
+  return v;
+}
+
+/// Whether the exact shift u (normalized) passes the whole-surface significance tests of 1.5 (overlap,
+/// contrast, the pattern at 2u, slides; the votes aside: u comes from the vertices, whose pairs are its
+/// evidence) on samples fine enough for its length: the dense ones where the contrast's probes, two overlap
+/// radii either side, lie within half a period (|u| >= 2 fundamental.min_length h), else the fine ones of
+/// 1.6.1 (drawn once into `fine`). ICP from u, trimmed at the overlap radius from the start, must stay
+/// within that radius of it. The tests are appended to `record`, named "pattern_...".
+template <class D, class M, class Det>
+Result<bool> vertex_pattern(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options, const Analysis& a,
+                            const Eigen::Vector3d& u, std::unique_ptr<PointSet>& fine,
+                            std::vector<OffsetTest>& record) {
+  const double h = options.dense_spacing;
+  const bool coarse = u.norm() >= 2 * options.fundamental.min_length * h;
+  const double spacing = coarse ? h : h * options.fine_spacing_ratio;
+  if (!coarse && !fine) {
+    Result<PointSet> drawn = poisson_disk_sample(mesh, a.normalization, spacing, options.seed + 3, {});
+    if (!drawn) return drawn.status();
+    fine = std::make_unique<PointSet>(std::move(*drawn));
+  }
+  SignificanceOptions tests;
+  tests.min_votes = 0;
+  tests.icp.spacing = spacing;
+  // u is exact (snapped onto the vertices), not a bin centre: the first stage needs no reach past the
+  // second's, and a reach of two bins pulls every vertex whose copy is missing (a divider's top) onto itself
+  // when the period is shorter than that.
+  tests.icp.start_trim = tests.icp.overlap_radius();
+  tests.threads = options.threads;
+  const PointSet anchors = vertex_anchors(a), no_features;
+  const std::vector<Match> no_matches;
+  const OffsetEvidence evidence{coarse ? a.dense : *fine, no_features, no_matches, spacing,
+                                options.fundamental.min_length * spacing, &anchors};
+  std::vector<DominantOffset> tested;
+  RESTITCH_TRY(refine_and_test(evidence, {OffsetCandidate{u, 0, 0, {}}}, tests, {}, tested));
+  if (tested.empty()) return false;
+  for (OffsetTest t : tested.front().tests)
+    if (t.name != "votes") t.name = "pattern_" + t.name, record.push_back(t);
+  return tested.front().significant &&
+         record_test(record, "pattern_stays", (tested.front().offset - u).norm() / tests.icp.overlap_radius(), 1, true);
+}
+
+/// docs/method.md 1.14: along each world axis w that no principal offset runs along, the shifts at which
+/// the vertices that shape the model repeat (vertex_lags over shape_vertices, the four most paired),
+/// shortest first; the first that snaps onto the vertices along w, whose lattice (the principal offsets and
+/// it) has neighbouring cells along it that are copies, covering at least half of the slabs between the two
+/// end slabs, with no part that occurs twice inside the model, is added to the dominant offsets (votes 0,
+/// test records "vertex_lag", "vertex_copies", "vertex_structure"; DominantOffset::from_vertices). Where it
+/// also passes the whole-surface tests of 1.5 (vertex_pattern: the matching cast no vote for a pattern it
+/// would have found, its period too short for the matching's scales) it is significant and a principal
+/// offset, after the others; else a candidate of reason "vertices", where a candidate that is a multiple of
+/// it no longer is one (collect_candidates). `vertices`: the unique vertex positions (normalized); nothing
+/// is done without them.
 template <class D, class M, class Det>
 Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
                            const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices,
@@ -719,11 +787,11 @@ Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& o
     return {};
   std::array<bool, 3> covered{{false, false, false}};
   for (const Eigen::Vector3d& p : a.principal) covered[std::size_t(world_axis_of(p))] = true;
-  for (const RepeatCandidate& c : a.candidates) covered[std::size_t(world_axis_of(c.offset))] = true;
   Eigen::Matrix<double, Eigen::Dynamic, 3> shaping(0, 3);
+  std::unique_ptr<PointSet> fine;  // vertex_pattern's fine samples, drawn once needed
   bool added = false;
   for (int w = 0; w < 3; ++w) {
-    if (covered[std::size_t(w)]) continue;
+    if (covered[std::size_t(w)] || a.axes.real_count >= 3) continue;
     if (shaping.rows() == 0) shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
     const double length = vertices->col(w).maxCoeff() - vertices->col(w).minCoeff();
     const Eigen::Vector3d along = Eigen::Vector3d::Unit(w);
@@ -740,7 +808,7 @@ Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& o
         continue;
       std::vector<Eigen::Vector3d> list(a.principal.begin(), a.principal.end());
       list.push_back(snapped.offset);
-      const PrincipalOffsets axes = select_principal_offsets(list, options.min_angle, options.dummy_length);
+      PrincipalOffsets axes = select_principal_offsets(list, options.min_angle, options.dummy_length);
       if (axes.real_count != int(list.size())) continue;
       Result<LatticeFit> fit = fit_lattice(mesh, a.normalization, a.dense, axes, options.lattice);
       if (!fit) return fit.status();
@@ -762,8 +830,21 @@ Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& o
       if (!record_test(d.tests, "vertex_copies", d.copies, 2) ||
           !record_test(d.tests, "vertex_structure", got / between, 0.5))
         continue;
+      Result<bool> pattern = vertex_pattern(mesh, options, a, snapped.offset, fine, d.tests);
+      if (!pattern) return pattern.status();
+      d.significant = *pattern;
       a.dominant.push_back(d);
       added = true;
+      if (d.significant) {  // a principal offset, after the others (the selection keeps the list's order)
+        for (int i = 0; i < k; ++i) axes.source[std::size_t(i)] = a.axes.source[std::size_t(i)];
+        a.axes = axes;
+        a.axes.source[std::size_t(k)] = int(a.dominant.size()) - 1;
+        a.principal.push_back(a.axes.axes[std::size_t(k)]);
+        a.lattice = fit->lattice;
+        a.A_normalized = fit->A_normalized;
+        a.origin_normalized = fit->origin_normalized;
+        a.phase = fit->phase;
+      }
       break;
     }
   }
@@ -784,16 +865,6 @@ Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>&
   return find_vertex_repeats(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a);
 }
 
-/// The vertex features of an analysis (features [sampled_features, end)): the ICP anchors.
-template <class = void>
-PointSet vertex_anchors(const Analysis& a) {
-  PointSet v;
-  const Eigen::Index first = Eigen::Index(a.sampled_features), n = a.features.size() - first;
-  if (n <= 0) return v;
-  v.points = a.features.points.bottomRows(n);
-  v.normals = a.features.normals.bottomRows(n);
-  return v;
-}
 
 }  // namespace detail
 

@@ -169,7 +169,10 @@ struct DominantOffset {
   }
   /// Found by the lags of the vertices along an axis the matching found nothing on and checked against the
   /// structure (docs/method.md 1.14), not by the detector: a candidate of reason "vertices".
-  bool from_vertices() const { return !tests.empty() && tests.front().name == "vertex_lag" && tests.back().passed; }
+  bool from_vertices() const {
+    return !tests.empty() && tests.front().name == "vertex_lag" &&
+           std::any_of(tests.begin(), tests.end(), [](const OffsetTest& t) { return t.name == "vertex_structure" && t.passed; });
+  }
   /// Not significant, and on the whole surface it passed votes, overlap and contrast and failed a
   /// pattern test: two copies, not a pattern.
   template <class = void>
