@@ -361,6 +361,54 @@ TEST_CASE("lattice fit: sheared axes, phase tie rule, bad axes", "[lattice][fit]
   CHECK(fit->phase.isApprox(Eigen::Array3d::Zero()));  // no samples: every phase costs 0 -> phase 0
 }
 
+TEST_CASE("lattice fit: the phases at local minima of the cut cost; a phase forced; one axis refitted alone",
+          "[lattice][fit]") {
+  // Runs of equal cost with both neighbours dearer, each at its centre (the lower one for an even length),
+  // cheapest first, ties by index; a run wrapping around counts once; a flat cost has none.
+  CHECK(detail::phase_minima({3, 0, 0, 0, 2, 1, 2, 1}) == std::vector<int>{2, 5, 7});
+  CHECK(detail::phase_minima({0, 5, 5, 0, 4, 0}) == std::vector<int>{3, 5});  // {5, 0} wraps: centre 5
+  CHECK(detail::phase_minima({2, 2, 2}).empty());
+  CHECK(detail::phase_minima({1, 2, 1, 2}) == std::vector<int>{0, 2});
+
+  // Five boxes at pitch 1 along x and three at pitch 1 along y: forcing x's phase moves x's planes only, and
+  // refitting x alone from the cheapest fit gives the same lattice as a whole fit with that phase.
+  Mesh mesh;
+  std::mt19937_64 rng(5);
+  std::vector<Vector3d> P, N;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 3; ++j) {
+      add_box(mesh, Vector3d(i, j, 0), Vector3d(i + 0.6, j + 0.5, 0.5));
+      sample_box(P, N, Vector3d(i, j, 0), Vector3d(i + 0.6, j + 0.5, 0.5), 0.01, rng);
+    }
+  const Normalization norm = Normalization::of(bounding_box(mesh));
+  for (Vector3d& p : P) p = norm.to_normalized(p);
+  const PointSet dense = to_point_set(P, N);
+  const PrincipalOffsets axes = select_principal_offsets(
+      {norm.to_normalized_offset(Vector3d(1, 0, 0)), norm.to_normalized_offset(Vector3d(0, 1, 0))});
+  const Result<LatticeFit> cheapest = fit_lattice(mesh, norm, dense, axes);
+  REQUIRE(cheapest.ok());
+  LatticeFitOptions forced;
+  forced.phase[0] = (int(std::lround(cheapest->phase[0] * 64)) + 32) % 64;  // half a period off
+  const Result<LatticeFit> whole = fit_lattice(mesh, norm, dense, axes, forced);
+  const Result<LatticeFit> alone = refit_axis(mesh, norm, dense, axes, forced, *cheapest, 0);
+  REQUIRE(whole.ok());
+  REQUIRE(alone.ok());
+  CHECK(whole->phase[0] == Approx(forced.phase[0] / 64.0));
+  CHECK(whole->phase[1] == cheapest->phase[1]);
+  CHECK(std::abs(whole->lattice.origin.x() - cheapest->lattice.origin.x()) > 0.4);
+  CHECK(whole->lattice.origin.y() == Approx(cheapest->lattice.origin.y()));
+  CHECK(alone->lattice.origin.isApprox(whole->lattice.origin, 1e-12));
+  CHECK(alone->lattice.cells.matrix() == whole->lattice.cells.matrix());
+  CHECK(alone->lattice.end_low.matrix() == whole->lattice.end_low.matrix());
+  CHECK(alone->lattice.end_high.matrix() == whole->lattice.end_high.matrix());
+  CHECK(alone->phase.matrix() == whole->phase.matrix());
+  CHECK(alone->phase_cost == whole->phase_cost);
+  forced.phase[1] = 64;
+  CHECK(fit_lattice(mesh, norm, dense, axes, forced).status().code() == StatusCode::invalid_argument);
+  CHECK(refit_axis(mesh, norm, dense, axes, LatticeFitOptions{}, *cheapest, 3).status().code() ==
+        StatusCode::invalid_argument);
+}
+
 TEST_CASE("vertex_double_drift: 0 where the vertices repeat at t and 2t, NaN for two copies or no repeat",
           "[offsets][detector]") {
   // n unit-ish boxes 0.15 apart along x (8 corners each), plus one big box that does not repeat (a post):

@@ -191,6 +191,12 @@ struct AnalysisOptions {
   /// where the surface is a pattern at it, else a candidate of reason "vertices", which a size asked along
   /// that axis then uses (docs/method.md 1.14).
   bool vertex_repeats = true;
+  /// Where a principal axis is undecided on the cheapest grid phase, up to this many other phases at local
+  /// minima of the cut cost are tried, cheapest first, and the first on which the axis is decided is taken
+  /// (docs/method.md 1.7, Phase by structure; 0: off). Each costs a lattice fit and a one-axis structure,
+  /// 50 to 100 ms on a 10k-triangle connector: 8 keep the worst case within about the time the analysis
+  /// takes on such a model.
+  int max_phases_by_structure = 8;
   /// Make a pair (two copies: a candidate of reason "pair") significant when its copies are exact and make up
   /// at least half of the model: a quarter of the vertices pair, and a quarter of the surface area is
   /// triangles whose corners, moved by it, land on vertices (docs/method.md 1.13). As certain a repeat as a
@@ -568,13 +574,14 @@ bool repeated_inner_part(const CellStructure& s, int a) {
 template <class D, class M, class Det>
 Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
                       const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices,
-                      std::unique_ptr<TriangleSurface>& surface, Analysis& a) {
+                      std::unique_ptr<TriangleSurface>& surface, Analysis& a, std::array<int, 3>& undecided) {
   if (!options.verify_periods || !vertices || a.axes.real_count == 0 || a.dense.size() == 0) return {};
   Eigen::Matrix<double, Eigen::Dynamic, 3> shaping(0, 3);  // shape_vertices, once an axis needs them
   bool changed = false;
   for (int k = 0; k < a.axes.real_count; ++k) {
     if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
     const CellStructure st = cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k);
+    undecided[std::size_t(k)] = st.undecided[std::size_t(k)];  // unless a period below replaces t
     const double have = repeated_length(st, a.lattice, k);
     const Eigen::Vector3d t = a.axes.axes[std::size_t(k)];
     const double extent = a.lattice.cells[k] * t.norm();  // the model's length along t, about
@@ -710,6 +717,9 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
           record_test(d.tests, f > 0 ? "structure_multiple" : "structure_divisor", std::abs(f), 2);
         d.divisor = f >= 0 ? d.divisor : d.divisor * -f;
       }
+      // The refit moves every axis's planes (A changed): the axes before are not known any more.
+      for (int i = 0; i < k; ++i) undecided[std::size_t(i)] = -1;
+      undecided[std::size_t(k)] = there.undecided[std::size_t(k)];
       changed = true;
       break;
     }
@@ -852,6 +862,83 @@ Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& o
   return {};
 }
 
+/// docs/method.md 1.7, Phase by structure: along each principal axis k whose structure on the chosen phase
+/// is undecided (no two neighbouring slabs, nor two farther apart around content that occurs once, are
+/// copies: restitch/lattice/structure.hpp), the other phases at which the cut cost has a local minimum
+/// (lattice/fit.hpp, phase_minima: the middle of each gap the planes can sit in), cheapest first, at most
+/// `max_phases_by_structure`; the first on which the axis is decided with its end slabs compared whole,
+/// some slabs repeat, some part lies inside the model and none is a copy of another replaces the phase
+/// along k (refit along k alone). The cut cost is what the phase is chosen by
+/// where the structure says nothing; where the cheapest phase cuts the content that occurs once into the
+/// cells of what repeats (a notch edge in a plain column's cell) the structure cannot be read there, and
+/// the seams on exact copies are exact at any phase (the stitcher clips, docs/method.md 3). `undecided`:
+/// per axis 1 (0) where the caller found it undecided (decided) on the lattice as it is, -1 where not known.
+template <class D, class M, class Det>
+Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
+                          std::unique_ptr<TriangleSurface>& surface, Analysis& a,
+                          const std::array<int, 3>& undecided = {{-1, -1, -1}}) {
+  if (options.max_phases_by_structure <= 0 || a.dense.size() == 0) return {};
+  for (int k = 0; k < a.axes.real_count; ++k) {
+    if (a.lattice.cells[k] < 3 || undecided[std::size_t(k)] == 0) continue;  // fewer cells cannot be undecided
+    if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
+    if (undecided[std::size_t(k)] < 0 &&
+        !cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k).undecided[std::size_t(k)])
+      continue;
+    LatticeFit from;  // the lattice as fitted, and the cost of each phase along k
+    from.lattice = a.lattice, from.A_normalized = a.A_normalized, from.origin_normalized = a.origin_normalized;
+    from.phase = a.phase;
+    Result<LatticeFit> base = refit_axis(mesh, a.normalization, a.dense, a.axes, options.lattice, from, k);
+    if (!base) return base.status();
+    const int K = options.lattice.phase_candidates;
+    const int chosen = int(std::lround(a.phase[k] * K)) % K;
+    std::vector<int> phases;  // the phases to try, in order
+    for (const int j : phase_minima(base->phase_cost[std::size_t(k)]))
+      if (j != chosen && int(phases.size()) < options.max_phases_by_structure) phases.push_back(j);
+    // Tried a batch of `threads` at a time, each independent; the first in order that qualifies is taken, so
+    // the lattice is the same whatever the number of threads.
+    const std::size_t batch = std::size_t(resolve_threads(options.threads));
+    bool taken = false;
+    for (std::size_t from = 0; from < phases.size() && !taken; from += batch) {
+      const std::size_t n = std::min(batch, phases.size() - from);
+      std::vector<Result<LatticeFit>> fits(n, error(StatusCode::internal, "not tried"));
+      std::vector<char> good(n, 0);
+      detail::parallel_tasks(
+          int(n), n,
+          [&](std::size_t t, int) {
+            LatticeFitOptions forced = options.lattice;
+            forced.phase[std::size_t(k)] = phases[from + t];
+            fits[t] = refit_axis(mesh, a.normalization, a.dense, a.axes, forced, *base, k);
+            if (!fits[t]) return;
+            // Another phase is a guess, taken on proof, as 1.12's periods are: end slabs compared whole (over
+            // its periodic part an end slab matches its neighbour by construction; so a 3-column box header,
+            // whose notch reaches every column, read its open front as what repeats, and grew it). And it
+            // must keep inside the model what made the cheapest phase undecided: there two whole cells
+            // inside the model differ, so a reading with no part inside has moved that content into the
+            // ends, which the cheapest phase refused (a 3-column box header whose notch reaches past its
+            // outer pins: every column an open front, the notch's edges in the end cells, and the notch grew
+            // with the pins).
+            const CellStructure st = cell_structure(mesh, a, fits[t]->lattice, 0, surface.get(), false, k);
+            const bool inner = std::any_of(st.parts.begin(), st.parts.end(), [&](const SingularPart& p) {
+              return p.axis == k && p.first > 0 && p.last < st.cells[k] - 1;
+            });
+            good[t] = !st.undecided[std::size_t(k)] && inner && repeated_length(st, fits[t]->lattice, k) > 0 &&
+                      !repeated_inner_part(st, k);
+          },
+          [](std::size_t) { return true; });
+      for (std::size_t t = 0; t < n && !taken; ++t) {
+        if (!fits[t]) return fits[t].status();
+        if (!good[t]) continue;
+        a.lattice = fits[t]->lattice;
+        a.A_normalized = fits[t]->A_normalized;
+        a.origin_normalized = fits[t]->origin_normalized;
+        a.phase = fits[t]->phase;
+        taken = true;
+      }
+    }
+  }
+  return {};
+}
+
 /// Stage "lattice": significant dominant offsets reduced to their fundamental periods, then select_and_fit.
 template <class D, class M, class Det>
 Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options, Analysis& a) {
@@ -861,7 +948,9 @@ Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>&
   RESTITCH_TRY(find_short_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, a));
   RESTITCH_TRY(select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, a));
   std::unique_ptr<TriangleSurface> surface;  // the mesh's triangles for the structures, built once needed
-  RESTITCH_TRY(verify_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a));
+  std::array<int, 3> undecided{{-1, -1, -1}};  // per axis, as verify_periods found it
+  RESTITCH_TRY(verify_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a, undecided));
+  RESTITCH_TRY(phase_by_structure(mesh, options, surface, a, undecided));
   return find_vertex_repeats(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a);
 }
 
@@ -1005,6 +1094,8 @@ Status promote_offsets(const Mesh& mesh, const AnalysisOptions<D, M, Det>& optio
     }
     const auto t0 = std::chrono::steady_clock::now();
     RESTITCH_TRY(detail::select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, b));
+    std::unique_ptr<detail::TriangleSurface> surface;
+    RESTITCH_TRY(detail::phase_by_structure(mesh, options, surface, b));
     b.timings_ms["promotion"] = detail::elapsed_ms(t0);
     a = std::move(b);
     return {};

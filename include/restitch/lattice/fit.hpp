@@ -81,6 +81,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -99,6 +100,9 @@ struct LatticeFitOptions {
   int phase_candidates = 64;  ///< K, candidate phases per axis
   double band = 0.02;         ///< half-width of the band around a cell plane, normalized length
   double sliver = 0.5;        ///< an end cell filled less than this share along its axis joins its neighbour
+  /// Per axis, a candidate phase index in [0, K) to use instead of the cheapest one, or -1 (the default):
+  /// for a caller that chooses the phase by something else (docs/method.md 1.7, a phase by structure).
+  std::array<int, 3> phase{{-1, -1, -1}};
 };
 
 /// The fitted lattice with the normalized-unit view and diagnostics.
@@ -108,6 +112,7 @@ struct LatticeFit {
   Eigen::Vector3d origin_normalized = Eigen::Vector3d::Zero();  ///< canonical (0,0,0), normalized space
   Eigen::Array3d phase = Eigen::Array3d::Zero();                ///< chosen phi per axis, in [0, 1)
   Eigen::Array3d cut_share = Eigen::Array3d::Zero();            ///< share of dense samples in the chosen bands
+  std::array<std::vector<std::size_t>, 3> phase_cost;           ///< per axis, the cost of each candidate phase
 };
 
 namespace detail {
@@ -127,6 +132,26 @@ int choose_phase(const std::vector<std::size_t>& cost) {
     if (len > best_len) best_len = len, best_start = s;
   }
   return (best_start + (best_len - 1) / 2) % K;
+}
+
+/// The candidate phases at which the cost has a local minimum: the centre of each circular run of equal
+/// costs both of whose neighbours cost more (the lower centre for an even length), cheapest first, ties
+/// by index. Empty when every candidate costs the same.
+template <class = void>
+std::vector<int> phase_minima(const std::vector<std::size_t>& cost) {
+  const int K = int(cost.size());
+  std::vector<int> out;
+  if (K == 0 || std::all_of(cost.begin(), cost.end(), [&](std::size_t c) { return c == cost[0]; })) return out;
+  for (int s = 0; s < K; ++s) {
+    const std::size_t c = cost[std::size_t(s)];
+    if (cost[std::size_t((s + K - 1) % K)] == c) continue;  // not the start of its run
+    int len = 1;
+    while (cost[std::size_t((s + len) % K)] == c) ++len;
+    if (cost[std::size_t((s + K - 1) % K)] > c && cost[std::size_t((s + len) % K)] > c)
+      out.push_back((s + (len - 1) / 2) % K);
+  }
+  std::stable_sort(out.begin(), out.end(), [&](int x, int y) { return cost[std::size_t(x)] < cost[std::size_t(y)]; });
+  return out;
 }
 
 /// The end plane (header comment) among candidate positions j / K, j = j0 .. j1, of a cell, where
@@ -197,17 +222,21 @@ long ceil_tolerant(double x) {
 
 }  // namespace detail
 
-/// Fits the lattice (see header). Errors: invalid options or a singular axis
-/// matrix (invalid_argument); a mesh without referenced vertices (invalid_mesh).
+namespace detail {
+/// fit_lattice, or with `from` (a fit of the same axes) along axis `only` alone, the others as in `from`.
 template <class = void>
-Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& norm, const PointSet& dense,
-                                      const PrincipalOffsets& axes, const LatticeFitOptions& options = {}) {
+Result<LatticeFit> fit_lattice_axes(const Mesh& mesh, const Normalization& norm, const PointSet& dense,
+                                    const PrincipalOffsets& axes, const LatticeFitOptions& options,
+                                    const LatticeFit* from, int only) {
   if (options.phase_candidates < 1 || options.phase_candidates > 4096)
     return error(StatusCode::invalid_argument, "the number of candidate phases must be between 1 and 4096");
   if (!(options.band >= 0) || !std::isfinite(options.band))
     return error(StatusCode::invalid_argument, "the cut band half-width must be a non-negative finite length");
   if (!(options.sliver >= 0 && options.sliver <= 1))
     return error(StatusCode::invalid_argument, "the sliver share must lie in [0, 1]");
+  for (const int k : options.phase)
+    if (k < -1 || k >= options.phase_candidates)
+      return error(StatusCode::invalid_argument, "a forced phase must be -1 or a candidate index below K");
   LatticeFit fit;
   Eigen::Matrix3d A;
   for (int a = 0; a < 3; ++a) A.col(a) = axes.axes[std::size_t(a)];
@@ -240,7 +269,19 @@ Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& norm, cons
   };
   Eigen::Array3i cells;
   Eigen::Array3d start;
+  const Eigen::Array3d from_start =
+      from ? Eigen::Array3d((Ainv * from->origin_normalized).array()) : Eigen::Array3d::Zero();
   for (int a = 0; a < 3; ++a) {
+    if (from && a != only) {  // as fitted before
+      start[a] = from_start[a];
+      cells[a] = from->lattice.cells[a];
+      fit.phase[a] = from->phase[a];
+      fit.cut_share[a] = from->cut_share[a];
+      fit.phase_cost[std::size_t(a)] = from->phase_cost[std::size_t(a)];
+      fit.lattice.end_low[a] = from->lattice.end_low[a];
+      fit.lattice.end_high[a] = from->lattice.end_high[a];
+      continue;
+    }
     // Phase: count samples near the planes of each candidate.
     const double row_norm = Ainv.row(a).norm();  // canonical units per normalized length
     const double h = options.band * row_norm;    // band half-width, canonical units
@@ -253,9 +294,10 @@ Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& norm, cons
         for (long k = k_lo; k <= k_hi && k < k_lo + K; ++k) ++cost[std::size_t(((k % K) + K) % K)];
       }
     }
-    const int k = detail::choose_phase(cost);
+    const int k = options.phase[std::size_t(a)] >= 0 ? options.phase[std::size_t(a)] : detail::choose_phase(cost);
     fit.phase[a] = double(k) / K;
     fit.cut_share[a] = dense.points.rows() ? double(cost[std::size_t(k)]) / double(dense.points.rows()) : 0.0;
+    fit.phase_cost[std::size_t(a)] = cost;
 
     // Cells: boundaries at s0 + n.
     const double s0 = lo[a] + fit.phase[a];
@@ -334,6 +376,26 @@ Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& norm, cons
   fit.lattice.cells = cells;
   fit.lattice.dummy = axes.dummy;
   return fit;
+}
+}  // namespace detail
+
+/// Fits the lattice (see header). Errors: invalid options or a singular axis
+/// matrix (invalid_argument); a mesh without referenced vertices (invalid_mesh).
+template <class = void>
+Result<LatticeFit> fit_lattice(const Mesh& mesh, const Normalization& norm, const PointSet& dense,
+                               const PrincipalOffsets& axes, const LatticeFitOptions& options = {}) {
+  return detail::fit_lattice_axes(mesh, norm, dense, axes, options, nullptr, -1);
+}
+
+/// fit_lattice along axis `k` alone (its phase, cells and end planes), the other axes as in `from`, a fit of
+/// the same axes and options: the same lattice as fit_lattice gives with those options, at a third of the
+/// cost or less (every axis is fitted on its own). Errors as fit_lattice's.
+template <class = void>
+Result<LatticeFit> refit_axis(const Mesh& mesh, const Normalization& norm, const PointSet& dense,
+                              const PrincipalOffsets& axes, const LatticeFitOptions& options, const LatticeFit& from,
+                              int k) {
+  if (k < 0 || k > 2) return error(StatusCode::invalid_argument, "the axis to refit must be 0, 1 or 2");
+  return detail::fit_lattice_axes(mesh, norm, dense, axes, options, &from, k);
 }
 
 }  // namespace restitch

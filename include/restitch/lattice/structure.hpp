@@ -284,6 +284,18 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       return true;
     };
     const auto plain = [&](int i) { return plain_shift(i, slide) && plain_shift(i + 1, -slide); };
+    // Slab i alone: its samples moved either way by the slide, those still inside it, land on the surface.
+    // Moved past its planes they would meet its neighbours' content (a key notch's edge a hundredth of a
+    // pitch past the plane of a cell of plain wall), which says nothing of whether its own content changes.
+    const auto plain_alone = [&](int i) {
+      for (const double shift : {slide, -slide})
+        for (const std::size_t k : slab[std::size_t(i)]) {
+          const double t = canonical[k][a] + shift;
+          if (t >= std::max(lo_cmp, double(i)) && t < std::min(hi_cmp, double(i + 1)) && off_surface(k, shift))
+            return false;
+        }
+      return true;
+    };
     std::vector<int>& copy_of = s.copy_of[std::size_t(a)];
     copy_of.assign(std::size_t(n), -1);
     for (int i = 0; i + 1 < n; ++i)
@@ -304,7 +316,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       bool decided = true;
       for (int i = 0; i < n && decided; ++i)
         for (int j = i + 2; j < n && decided; ++j) {
-          if (!copies(i, j) || plain_shift(i, slide)) continue;
+          if (!copies(i, j) || plain_alone(i)) continue;
           decided = j > i + 2 && std::find(far.begin(), far.end(), std::pair<int, int>{i - 1, j - 1}) == far.end();
           far.push_back({i, j});
         }
