@@ -403,6 +403,17 @@ TEST_CASE("structure: an axis undecided on the cheapest grid phase is read on an
   REQUIRE(r3.structure());
   CHECK(r3.structure()->undecided[std::size_t(three.axis)]);
   CHECK(grown_warned(r3, three.axis, "undecided axis"));
+  // Nor is one whose shroud reaches 2.3 pitches past its outer pins: on one phase a cell of its plain wall
+  // ends 0.012 before the notch's edge, and two such cells four apart were copies farther apart, the three
+  // pin columns a part, until a slab's plain content was judged inside it alone (method.md 2.10).
+  const Family long_shroud =
+      make("box_header", {{"columns", 3}, {"pitch", 2.06007}, {"shroud_end", 4.78391}, {"width", 11.2909},
+                          {"height", 8.91765}, {"base", 1.78464}, {"wall", 0.71339}, {"notch_width", 5.03693},
+                          {"pin_size", 0.494061}, {"pin_above", 5.94663}, {"pin_below", 3.23893}});
+  Retargeter<> rl(long_shroud.sample.mesh, long_shroud.analysis);
+  REQUIRE(rl.structure());
+  CHECK(rl.structure()->undecided[std::size_t(long_shroud.axis)]);
+  CHECK(grown_warned(rl, long_shroud.axis, "undecided axis"));
 }
 
 namespace {
