@@ -65,7 +65,8 @@ Status plan_parts(const CellStructure* structure, const Eigen::Array3i& k, Retar
 }
 
 /// Checks lattice `steps` (one per axis of `grid`, the label grid of `space`) and fills
-/// rep.grid_steps and rep.cells_out (and the parts, plan_parts): refused when the model has no repeat,
+/// rep.grid_steps and rep.cells_out (and the parts, plan_parts; a warning "pair" for a resized axis whose
+/// repeat is a pair candidate promoted on request): refused when the model has no repeat,
 /// when an axis would shrink below one cell or to one cell that cannot hold both ends, when the parts
 /// that occur once do not allow it (plan_parts), and when nodes x labels exceed options.max_problem_size
 /// (too_large, naming the option).
@@ -94,6 +95,20 @@ Status plan_request(const LabelSpace& space, const Analysis& analysis, const Lat
                        " steps can be removed)");
   rep.cells_out = grid.cells + k;
   RESTITCH_TRY(plan_parts(structure, k, rep));
+  // A repeat of two copies that make up less than half of the model (a pair candidate, promoted on request:
+  // docs/method.md 1.10, 1.13) is a detail of a larger whole: what each copy holds is repeated with it and
+  // the rest is kept at the ends, which the model may not mean (a 2-column box header's key notch, whose
+  // edges lie in the ends, widens with the pins).
+  for (int a = 0; a < analysis.axes.real_count; ++a) {
+    const int i = analysis.axes.source[std::size_t(a)];
+    if (steps[a] == 0 || i < 0 || i >= int(analysis.dominant.size())) continue;
+    const DominantOffset& d = analysis.dominant[std::size_t(i)];
+    if (d.promoted && !d.significant && d.is_pair())
+      rep.warnings.push_back({"pair", "the repeat along axis " + std::to_string(a + 1) +
+                                          " is two copies that make up less than half of the model (a candidate, "
+                                          "resized along on request): what each copy holds is repeated with it and "
+                                          "the rest kept at the ends; look at the result"});
+  }
   const double nodes = double(rep.cells_out.prod());
   const double labels = double((k.abs() + 1).prod());
   if (nodes * labels > double(options.max_problem_size))
