@@ -1,12 +1,14 @@
 // Placement and exact sizes (restitch/placement.hpp, docs/method.md 2.7): the pivot stays put, growth goes
 // away from it in whole periods; a pin header whose pin 1 sits at the origin, resized, is the real part.
 #include <catch2/catch.hpp>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
 #include <functional>
 #include <map>
+#include <utility>
 
 #include "restitch/families/families.hpp"
 #include "restitch/io/json_report.hpp"
@@ -58,6 +60,65 @@ void check_coincide(const Mesh& out, const Mesh& truth) {
   CHECK((bo.min - bt.min).cwiseAbs().maxCoeff() < 1e-4);
   CHECK((bo.max - bt.max).cwiseAbs().maxCoeff() < 1e-4);
   CHECK(worst_vertex_distance(truth, out) < 1e-4);
+}
+
+// `m` with a closed box [lo, hi] of 12 triangles added to its first group (normals per face; every other
+// channel the group has gets zeros): a key or a marker on one end of a part, or a whole body.
+Mesh with_box(Mesh m, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  REQUIRE(!m.groups.empty());
+  const AttributeSet& has = m.groups.front().attributes;
+  const Eigen::Index v0 = m.V.rows(), f0 = m.F.rows();
+  m.V.conservativeResize(v0 + 24, 3);
+  m.F.conservativeResize(f0 + 12, 3);
+  m.FG.conservativeResize(f0 + 12);
+  if (has.normals) m.N.conservativeResize(v0 + 24, 3);
+  if (has.tangents) m.T.conservativeResize(v0 + 24, 4), m.T.bottomRows(24).setZero();
+  if (has.color_components > 0) m.C.conservativeResize(v0 + 24, 4), m.C.bottomRows(24).setZero();
+  for (MatrixX2f& uv : m.UV) uv.conservativeResize(v0 + 24, 2), uv.bottomRows(24).setZero();
+  Eigen::Index v = v0, f = f0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (const int side : {0, 1}) {
+      const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+      Eigen::Vector3d n = Eigen::Vector3d::Zero();
+      n[axis] = side ? 1 : -1;
+      for (const auto& [a, b] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) {
+        Eigen::Vector3d p;
+        p[axis] = side ? hi[axis] : lo[axis], p[u] = a ? hi[u] : lo[u], p[w] = b ? hi[w] : lo[w];
+        m.V.row(v) = p.cast<float>().transpose();
+        if (m.N.rows() == m.V.rows()) m.N.row(v) = n.cast<float>().transpose();
+        ++v;
+      }
+      const std::uint32_t c = std::uint32_t(v - 4);  // (u, w) corners counter-clockwise about +axis
+      const std::array<std::uint32_t, 6> t = side ? std::array<std::uint32_t, 6>{c, c + 1, c + 2, c, c + 2, c + 3}
+                                                  : std::array<std::uint32_t, 6>{c, c + 2, c + 1, c, c + 3, c + 2};
+      for (int k = 0; k < 2; ++k, ++f) m.F.row(f) << t[std::size_t(3 * k)], t[std::size_t(3 * k + 1)], t[std::size_t(3 * k + 2)];
+    }
+  m.FG.tail(12).setZero();
+  return m;
+}
+
+// A dual in-line package as CAD exports it: the body one box of 12 triangles over every pin, `n` pins a side
+// (boxes below the body at z = +-3.81), a key on the body's pin-1 end and a pin-1 marker on its top above pin
+// 1. Pin 1 at the origin, pins along +x at the header's pitch; `centred`: the origin at the centre of the
+// row of pins instead (a chip package's convention).
+Mesh dip_package(int n, bool centred) {
+  Mesh m;
+  m.materials = {Material{}};
+  m.groups = {Group{0, AttributeSet{true, false, 0, 0}, "package"}};
+  const double wall = 0.9, length = (n - 1) * pitch;
+  m = with_box(m, Eigen::Vector3d(-wall, 0.5, -3.2), Eigen::Vector3d(length + wall, 3.8, 3.2));
+  m = with_box(m, Eigen::Vector3d(-wall - 0.3, 2.0, -0.8), Eigen::Vector3d(-wall, 3.4, 0.8));
+  m = with_box(m, Eigen::Vector3d(-0.4, 3.8, 2.0), Eigen::Vector3d(0.4, 3.9, 2.8));
+  for (int i = 0; i < n; ++i)
+    for (const double z : {-3.81, 3.81})
+      m = with_box(m, Eigen::Vector3d(i * pitch - 0.25, -3.0, z - 0.3), Eigen::Vector3d(i * pitch + 0.25, 0.5, z + 0.3));
+  return centred ? moved(m, Eigen::Matrix3d::Identity(), Eigen::Vector3d(-length / 2, 0, 0)) : m;
+}
+
+double faces_area(const Mesh& m) {
+  double sum = 0;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) sum += double_area(m, f) / 2;
+  return sum;
 }
 
 // The one non-dummy lattice axis, with steps k along it.
@@ -211,6 +272,63 @@ TEST_CASE("placement: an origin in the middle grows both ways, split evenly", "[
   check_coincide(shrink3->mesh, centred_on(5, 2));
 }
 
+TEST_CASE("placement: a part built about its centre stays centred, also at an odd change, whatever key or marker "
+          "sits at one end", "[placement][samples]") {
+  // A pin header of n pins with its origin at the centre of the row of pins (a chip package's or an SMD
+  // connector's convention) and a key on its low end face 0.6 long: the box's centre lies 0.3 (0.12 of a
+  // pitch) off the origin, more than a sample spacing, less than a quarter of a pitch. Resized, it is the
+  // part of n + k pins with its key, centred the same way: one pin at each end for k = 2, half a pin at each
+  // for k = 1. At 2 pins the origin lies in the last module that repeats, where an origin half a pitch off
+  // the centre (pin 1) keeps its end; this one is at the centre.
+  const double key = 0.6;
+  const auto centred = [&](int n) {
+    const Mesh m = with_box(pin_header(n), Eigen::Vector3d(-key, 0.5, -0.6), Eigen::Vector3d(0, 2.0, 0.6));
+    return moved(m, Eigen::Matrix3d::Identity(), Eigen::Vector3d(-(end_length + n * pitch / 2), 0, 0));
+  };
+  for (const int n : {2, 3, 4, 5}) {
+    const Mesh in = centred(n);
+    auto a = analyze(in);
+    REQUIRE(a.ok());
+    REQUIRE(a->principal.size() == 1);
+    Retargeter<> r(in, *a);
+    for (const int k : {2, 1, 3, -1}) {
+      if (n + k < 2) continue;
+      INFO(n << " pins, steps " << k);
+      auto out = r.retarget(steps_of(*a, k));
+      REQUIRE(out.ok());
+      check_coincide(out->mesh, centred(n + k));
+      CHECK(out->report.placement.translation.x() == Approx(-0.5 * k * pitch).margin(1e-9));
+    }
+  }
+}
+
+TEST_CASE("placement: a package whose body is one box over every pin, pin 1 or its centre at the origin, is "
+          "the package of the other size in place, closed", "[placement][samples]") {
+  // The body's 12 triangles cross every cell plane, so every copy of it is clipped (restitch/stitch); the
+  // key and the pin-1 marker occur once; the pins below touch the body. From 3 to 6 pins a side, to every
+  // other count of 2 to 7.
+  for (const bool centred : {false, true})
+    for (int n = 3; n <= 6; ++n) {
+      const Mesh in = dip_package(n, centred);
+      REQUIRE(boundary_edge_count(in) == 0);
+      auto a = analyze(in);
+      REQUIRE(a.ok());
+      REQUIRE(a->principal.size() == 1);
+      Retargeter<> r(in, *a);
+      for (int m = 2; m <= 7; ++m) {
+        if (m == n) continue;
+        INFO((centred ? "centred, " : "pin 1 at the origin, ") << n << " pins a side to " << m);
+        auto out = r.retarget(steps_of(*a, m - n));
+        REQUIRE(out.ok());
+        const Mesh truth = dip_package(m, centred);
+        check_coincide(out->mesh, truth);
+        CHECK(faces_area(out->mesh) == Approx(faces_area(truth)).epsilon(1e-5));  // nothing more: no piece of a marker
+        CHECK(boundary_edge_count(out->mesh) == 0);
+        CHECK(out->report.warnings.empty());
+      }
+    }
+}
+
 TEST_CASE("placement: min, center and max on the plain pin header", "[placement][samples]") {
   const auto plain = [](int n) { return pin_header(n); };
   const auto shifted = [](double dx) {
@@ -248,10 +366,12 @@ TEST_CASE("placement: min, center and max on the plain pin header", "[placement]
       Retargeter<> r(in, *a, opt);
       auto out = r.retarget(steps_of(*a, k));
       REQUIRE(out.ok());
-      check_coincide(out->mesh, shifted(-(k / 2) * pitch)(8 + k));  // k / 2 truncates: the odd pin at max
+      // The centre stays: k / 2 pins at each end, half a pin more at an odd k (the cells split with the odd
+      // one at the max end, then the whole moved half a pitch back).
+      check_coincide(out->mesh, shifted(-0.5 * k * pitch)(8 + k));
+      CHECK(out->report.placement.low_cells.x() == k / 2);  // k / 2 truncates: the odd cell at max
       CHECK(out->report.placement.pivot.x() == Approx(bounding_box(in).center().x()));
-      if (k % 2 == 0)
-        CHECK(bounding_box(out->mesh).center().x() == Approx(bounding_box(in).center().x()).margin(1e-5));
+      CHECK(bounding_box(out->mesh).center().x() == Approx(bounding_box(in).center().x()).margin(1e-5));
     }
   }
   // The label grid reported is the output's: the translation moved it too.

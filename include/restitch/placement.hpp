@@ -11,10 +11,10 @@
 //           a part that occurs once, that part stays (a part at an end keeps
 //           that end fixed, a centred one splits as `center`); in repeated
 //           content, the end of the model nearer to it stays fixed, and growth
-//           splits evenly when it lies at the model's centre (within one
-//           sample spacing, how closely the centre is measured), or within
-//           half a period of it in a module that is not the first or the last
-//           that repeats. So a connector whose housing reaches past pin 1
+//           splits evenly when it lies at the model's centre (within a
+//           quarter period: halfway to where pin 1 of a two-pin part lies),
+//           or within half a period of it in a module that is not the first
+//           or the last that repeats. So a connector whose housing reaches past pin 1
 //           at the origin keeps pin 1 where it was, whatever the grid phase.
 //           Without the structure (RetargetOptions::keep_parts off, the
 //           regular baseline), or along an axis where no cell repeats, the
@@ -30,11 +30,15 @@
 // axis takes the pivot of the world axis it runs along (world_axis_of).
 // Growth is in whole lattice cells, so the translation applied is a whole
 // number of periods along every principal offset: -(cells added at the low
-// end) * v_a, summed over the axes. Repeated parts of the result therefore
-// lie exactly where the input's lie. The pivot *point* reported (per world
-// axis: the clamped origin, the box minimum, centre or maximum) is where the
-// pivot is; with an odd split of `center` (or of `origin` in a middle cell)
-// the content there moves by half a period, since a cell cannot be split.
+// end) * v_a, summed over the axes, and repeated parts of the result lie
+// exactly where the input's lie; except where the centre stays (`center`,
+// or `origin` at the model's centre): there the translation is -(k_a / 2)
+// v_a, half a period more at an odd k_a, so the result is centred where the
+// input was (a package built about its centre, 7 pins a side from 6). The
+// pivot *point* reported (per world axis: the clamped origin, the box
+// minimum, centre or maximum) is where the pivot is; with an odd split of
+// `origin` in a middle cell away from the centre the content there moves by
+// half a period, since a cell cannot be split.
 //
 // Exact sizes: `scale_about` scales a mesh along the world axes about a
 // point (positions, normals by the inverse transpose, tangents), which the
@@ -110,7 +114,7 @@ struct Placement {
   Pivots modes{{Pivot::origin, Pivot::origin, Pivot::origin}};
   Eigen::Vector3d pivot = Eigen::Vector3d::Zero();        ///< the pivot point, per world axis (file comment)
   Eigen::Array3i low_cells = Eigen::Array3i::Zero();      ///< cells added (< 0: removed) at each lattice axis's low end
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();  ///< applied to the stitched result: -A * low_cells
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();  ///< applied to the stitched result: -A * low_cells, or -A * steps / 2 where the centre stays
 };
 
 /// The placement of a resize by lattice `steps` (per axis of `L`, the analysis lattice) of a model whose
@@ -137,10 +141,11 @@ Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& 
     const int keep_low = 0, keep_high = k;
     const int split = low_is_min ? k / 2 : k - k / 2;  // k / 2 truncates: the odd cell goes to the max side
     int low = keep_low;
+    bool centred = false;  // the model's centre stays put: an odd count is placed half a period off the cells
     switch (modes[std::size_t(w)]) {
       case Pivot::min: low = low_is_min ? keep_low : keep_high; break;
       case Pivot::max: low = low_is_min ? keep_high : keep_low; break;
-      case Pivot::center: low = split; break;
+      case Pivot::center: low = split, centred = true; break;
       case Pivot::origin: {
         const int n = L.cells[a];
         const int j = std::clamp(int(std::floor(c[a])), 0, n - 1);
@@ -151,17 +156,20 @@ Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& 
           if (const SingularPart* p = structure->part_of(a, j))
             low = CellStructure::shift_of(*p, k);  // the part stays where it is
           else {
-            // At the centre: split. In the first or last module that repeats (pin 1 of a two-pin part, half a
-            // period from its centre): the nearer end. Elsewhere within half a period of the centre: split.
+            // Within a quarter period of the centre: split (a package built about its centre, whose key or
+            // marker at one end moves the box's centre a little). In the first or last module that repeats
+            // (pin 1 of a two-pin part, half a period from its centre): the nearer end. Elsewhere within half
+            // a period of the centre: split.
             const double to_low = c[a] - structure->extent_low[a], to_high = structure->extent_high[a] - c[a];
             const double off = std::abs(to_low - to_high) / 2;
             int first = 0, last = n - 1;
             while (first < n - 1 && !structure->repeats(a, first)) ++first;
             while (last > 0 && !structure->repeats(a, last)) --last;
             const bool next_to_end = j <= first || j >= last;
-            low = off <= structure->spacing[a] || (!next_to_end && off <= structure->centre_band(a)) ? split
-                  : to_low < to_high                                                                ? keep_low
-                                                                                                    : keep_high;
+            centred = off <= structure->centre_near(a);
+            low = centred || (!next_to_end && off <= structure->centre_band(a)) ? split
+                  : to_low < to_high                                            ? keep_low
+                                                                                : keep_high;
           }
         } else if (n == 1)
           low = c[a] < 0.5 ? keep_low : keep_high;
@@ -175,7 +183,8 @@ Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& 
       }
     }
     out.low_cells[a] = low;
-    out.translation -= double(low) * L.A.col(a);
+    // Half of the growth at each end: k / 2 periods, a half period more than the whole cells at an odd k.
+    out.translation -= (centred ? 0.5 * double(k) : double(low)) * L.A.col(a);
   }
   return out;
 }

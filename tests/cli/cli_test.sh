@@ -147,7 +147,7 @@ node -e '
   if (p.low_end_cells[0] !== 3 || j.exact.applied !== false) process.exit(1);' "$work/pins-max.json" && ok || bad "resize --pivot max: JSON pivot wrong"
 [ "$("$bin" info "$work/pins-max.glb" --json - | json_field bbox_max | node -e 'console.log(JSON.parse(require("fs").readFileSync(0,"utf8"))[0].toFixed(4))')" = 20.9200 ] && ok || bad "resize --pivot max moved the max end"
 expect 0 "$bin" resize "$work/pins.glb" -o "$work/pins-c.glb" --steps 3 --pivot center --json "$work/pins-c.json"
-[ "$(json_field pivot < "$work/pins-c.json" | node -e 'const p=JSON.parse(require("fs").readFileSync(0,"utf8")); console.log(p.low_end_cells[0], p.translation[0].toFixed(3))')" = "1 -2.540" ] && ok || bad "resize --pivot center: +3 is not 1 at the min end, 2 at the max end"
+[ "$(json_field pivot < "$work/pins-c.json" | node -e 'const p=JSON.parse(require("fs").readFileSync(0,"utf8")); console.log(p.low_end_cells[0], p.translation[0].toFixed(3))')" = "1 -3.810" ] && ok || bad "resize --pivot center: +3 is not 1 cell at the min end, 2 at the max end, moved back half a pitch to keep the centre"
 [ "$(json_field pivot < "$work/pins+3.json" | node -e 'const p=JSON.parse(require("fs").readFileSync(0,"utf8")); console.log(p.modes.join(), p.translation.join())')" = "origin,origin,origin 0,0,0" ] && ok || bad "resize: the default pivot is not the origin, or the origin at the min end moved"
 expect_error 2 "pivot" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --steps 1 --pivot middle
 expect_error 2 "pivot" "$bin" resize "$work/pins.glb" -o "$work/x.glb" --steps 1 --pivot min,max

@@ -109,6 +109,11 @@ struct CellStructure {
   /// How far from the model's centre along axis a a centre still counts as the centre, in periods: half a
   /// period (whole periods cannot tell closer) plus one sample spacing (how closely it is measured).
   double centre_band(int a) const { return 0.5 + spacing[a]; }
+  /// How far from the model's centre along axis a an origin lies at the centre, in periods, wherever it is:
+  /// a quarter period, halfway to pin 1 of a two-pin part (half a period from its centre), so a key or a
+  /// marker at one end of a package built about its centre, which moves the box's centre by less, does
+  /// not make its origin pin 1 (docs/method.md 2.7); at least one sample spacing.
+  double centre_near(int a) const { return std::max(0.25, spacing[a]); }
 
   /// Whether slab i along axis a repeats (true along an axis without a structure).
   bool repeats(int a, int i) const {
