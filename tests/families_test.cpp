@@ -1,6 +1,7 @@
 // Tests of restitch/families/families.hpp (the generated families: parametric sample models) and of
 // the test-only surface distance oracle in tests/support/surface_distance.hpp.
 #include "restitch/families/families.hpp"
+#include "restitch/mesh_boundary.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -21,9 +22,9 @@ using Vec3 = Eigen::Vector3d;
 
 namespace {
 
-const std::vector<std::string> kNames = {"bookshelf", "box_header", "cabinet",   "connector", "facade", "facade_sheared",
-                                         "fence",     "pin_header", "radiator", "railing",   "shutter",
-                                         "tube_rail"};
+const std::vector<std::string> kNames = {"bookshelf", "box_header", "cabinet",  "connector", "dip",
+                                         "facade",    "facade_sheared", "fence", "pin_header", "radiator",
+                                         "railing",   "shutter",    "tube_rail"};
 
 SampleModel make(const std::string& name, const std::map<std::string, double>& o = {}) {
   auto r = generate(name, o);
@@ -203,7 +204,8 @@ TEST_CASE("every sample generates with its defaults: valid, attributed, 1k-5k tr
     for (std::size_t g = 0; g < ng; ++g) {
       CHECK(s.counts[g] >= 3);
       CHECK(s.counts[g] == int(param_default(name, s.count_parameters[g])));
-      CHECK(s.modules[g] == (name == "bookshelf" ? s.counts[g] - 1 : s.counts[g]));
+      // The bookshelf's end caps hold a compartment, the DIP's each hold a pin (of each row).
+      CHECK(s.modules[g] == s.counts[g] - (name == "bookshelf" ? 1 : name == "dip" ? 2 : 0));
       CHECK(s.generators[g].norm() * scale > 0.2);
       REQUIRE(s.face_block[g].size() == m.F.rows());
       CHECK(s.face_block[g].minCoeff() == -1);
@@ -263,6 +265,20 @@ TEST_CASE("bounding boxes agree with the parameters", "[samples]") {
     CHECK(std::abs(b.max.y() - (1.15 + 0.4 * 0.1)) < tol);  // post cap apex
     CHECK(b.min.y() == 0.0);
     CHECK(s.generators[0] == Vec3(0.12, 0, 0));
+  }
+  SECTION("dip: the body ends wall past the end pins, the pins hang below it, closed") {
+    const auto s = make("dip", {{"pins", 6}, {"wall", 0.8}});
+    const auto b = restitch::bounding_box(s.mesh);
+    CHECK(b.min.isApprox(Vec3(-0.8, -3.0, -3.2), tol));
+    CHECK(b.max.isApprox(Vec3(5 * 2.54 + 0.8, 3.3, 3.2), tol));
+    CHECK(s.generators[0] == Vec3(2.54, 0, 0));
+    CHECK(s.modules[0] == 4);
+    CHECK(restitch::boundary_edge_count(s.mesh) == 0);
+    // The dimple reaches past the first block boundary (half a pitch past pin 1): the part spans the start
+    // cap and module 0; kept inside the start cap, it is the start cap's alone.
+    REQUIRE(s.parts.size() == 1);
+    CHECK((s.parts[0].first == -1 && s.parts[0].last == 0 && s.parts[0].anchor == "low end"));
+    CHECK(make("dip", {{"marker_x", 0.0}}).parts[0].last == -1);
   }
   SECTION("pin_header") {
     const auto s = make("pin_header", {{"pins", 5}});
@@ -359,6 +375,10 @@ TEST_CASE("fence: one more picket is the model grown by one module", "[samples][
 
 TEST_CASE("pin_header: one more pin is the model grown by one module", "[samples][ground_truth]") {
   check_one_more_repeat("pin_header", {{"pins", 4}, {"detail", 3}});
+}
+
+TEST_CASE("dip: one more pin a side is the package grown by one module", "[samples][ground_truth]") {
+  check_one_more_repeat("dip", {{"pins", 3}, {"marker_x", 0.0}});  // the dimple inside the start cap
 }
 
 TEST_CASE("generation is deterministic", "[samples]") {

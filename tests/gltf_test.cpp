@@ -9,9 +9,11 @@
 #include "restitch/detail/file.hpp"
 #include "restitch/io/gltf.hpp"
 #include "support/gltf_builder.hpp"
+#include "support/boundary_length.hpp"
 
 using namespace restitch;
 using restitch::test::GltfBuilder;
+using restitch::test::surface_area;
 
 namespace {
 
@@ -43,12 +45,6 @@ void add_scene(GltfBuilder& b, std::vector<nlohmann::json> nodes) {
   }
   b.j["scenes"].push_back({{"nodes", roots}});
   b.j["scene"] = 0;
-}
-
-double total_area(const Mesh& m) {
-  double a = 0;
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f) a += 0.5 * double_area(m, f);
-  return a;
 }
 
 // A textured two-material mesh built by the reader, for round trips.
@@ -85,7 +81,7 @@ TEST_CASE("gltf: a quad with normals and UVs loads as two triangles", "[gltf]") 
     CHECK(m->groups[0].attributes.normals);
     CHECK(m->groups[0].attributes.uv_sets == 1);
     CHECK(m->UV[0](1, 0) == 1.0f);
-    CHECK(total_area(*m) == Approx(1.0));
+    CHECK(surface_area(*m) == Approx(1.0));
   }
 }
 
@@ -104,7 +100,7 @@ TEST_CASE("gltf: node transforms are applied in world space, mirroring flips win
   CHECK(m->V(1, 1) == Approx(1.0f));
   // Vertex (0,1,0) -> rotated (-1,0,0) -> scaled (2,0,0) -> (12,0,0).
   CHECK(m->V(3, 0) == Approx(12.0f));
-  CHECK(total_area(*m) == Approx(2.0));
+  CHECK(surface_area(*m) == Approx(2.0));
   // The normal stays +z (rotation about z, mirror in x); the face, wound back, still faces +z.
   CHECK(m->N(0, 2) == Approx(1.0f));
   const Eigen::Vector3f a = m->V.row(m->F(0, 0)), c1 = m->V.row(m->F(0, 1)), c2 = m->V.row(m->F(0, 2));
@@ -198,7 +194,7 @@ TEST_CASE("gltf: strips, fans and non-indexed primitives become the same triangl
     auto m = load_text(b.gltf_text());
     REQUIRE(m.ok());
     CHECK(m->triangle_count() == 2);
-    CHECK(total_area(*m) == Approx(1.0));
+    CHECK(surface_area(*m) == Approx(1.0));
     for (Eigen::Index f = 0; f < m->F.rows(); ++f) {  // every triangle faces +z
       const Eigen::Vector3f a = m->V.row(m->F(f, 0)), c1 = m->V.row(m->F(f, 1)), c2 = m->V.row(m->F(f, 2));
       CHECK((c1 - a).cross(c2 - a).z() > 0);

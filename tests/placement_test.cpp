@@ -13,8 +13,10 @@
 #include "restitch/families/families.hpp"
 #include "restitch/io/json_report.hpp"
 #include "restitch/restitch.hpp"
+#include "support/boundary_length.hpp"
 
 using namespace restitch;
+using restitch::test::surface_area;
 
 namespace {
 
@@ -113,12 +115,6 @@ Mesh dip_package(int n, bool centred) {
     for (const double z : {-3.81, 3.81})
       m = with_box(m, Eigen::Vector3d(i * pitch - 0.25, -3.0, z - 0.3), Eigen::Vector3d(i * pitch + 0.25, 0.5, z + 0.3));
   return centred ? moved(m, Eigen::Matrix3d::Identity(), Eigen::Vector3d(-length / 2, 0, 0)) : m;
-}
-
-double faces_area(const Mesh& m) {
-  double sum = 0;
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f) sum += double_area(m, f) / 2;
-  return sum;
 }
 
 // The one non-dummy lattice axis, with steps k along it.
@@ -322,7 +318,7 @@ TEST_CASE("placement: a package whose body is one box over every pin, pin 1 or i
         REQUIRE(out.ok());
         const Mesh truth = dip_package(m, centred);
         check_coincide(out->mesh, truth);
-        CHECK(faces_area(out->mesh) == Approx(faces_area(truth)).epsilon(1e-5));  // nothing more: no piece of a marker
+        CHECK(surface_area(out->mesh) == Approx(surface_area(truth)).epsilon(1e-5));  // nothing more: no piece of a marker
         CHECK(boundary_edge_count(out->mesh) == 0);
         CHECK(out->report.warnings.empty());
       }

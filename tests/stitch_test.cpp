@@ -1,6 +1,7 @@
 // Tests for restitch/stitch/stitch.hpp: the clip stitcher.
 #include "restitch/stitch/stitch.hpp"
 #include "restitch/mesh_boundary.hpp"
+#include "support/boundary_length.hpp"
 
 #include <algorithm>
 #include <array>
@@ -11,6 +12,7 @@
 using restitch::ClipStitcher;
 using restitch::Lattice;
 using restitch::Mesh;
+using restitch::test::surface_area;
 using restitch::ClipStitchCache;
 using restitch::StitchReport;
 
@@ -107,12 +109,6 @@ struct Builder {
     return m;
   }
 };
-
-double area(const Mesh& m) {
-  double a = 0;
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f) a += 0.5 * restitch::double_area(m, f);
-  return a;
-}
 
 // One triangle as numbers: every corner's position (minus `shift`) and
 // attributes, rotated so the smallest corner comes first (winding kept).
@@ -214,7 +210,7 @@ TEST_CASE("stitch: identity labels return the input triangles untouched", "[stit
   REQUIRE(out.triangle_count() == in.triangle_count());
   // Same faces in the same order, every value equal (input is sorted by group).
   for (Eigen::Index f = 0; f < in.F.rows(); ++f) REQUIRE(record(out, f) == record(in, f));
-  CHECK(area(out) == area(in));
+  CHECK(surface_area(out) == surface_area(in));
   CHECK(out.groups.size() == 2);
   CHECK(out.groups[1].name == "group 1");
   CHECK(restitch::validate(out).ok());
@@ -276,7 +272,7 @@ TEST_CASE("stitch: stretching a row of boxes copies the input translated by k pi
   // Output = input cells 0..2 and 1..3: two interior boxes more.
   Builder one;
   one.box({0.2 * p, 0.0, 0.0}, {0.8 * p, 0.3, 0.2});
-  CHECK(area(out) == Approx(area(in) + 2 * area(one.mesh())).epsilon(1e-6));
+  CHECK(surface_area(out) == Approx(surface_area(in) + 2 * surface_area(one.mesh())).epsilon(1e-6));
 }
 
 TEST_CASE("stitch: a triangle crossing a seam is cut exactly, attributes interpolated", "[stitch]") {
@@ -302,7 +298,7 @@ TEST_CASE("stitch: a triangle crossing a seam is cut exactly, attributes interpo
   // Cut points on PQ at t = 0.5 and on QR at t = 0.5 (Q.x = 1.5, R.x = 0.5).
   const Eigen::Vector3d m1 = 0.5 * (P + Q), m2 = 0.5 * (Q + R);
   const double left = 0.5 * ((m1 - P).cross(m2 - P).norm() + (m2 - P).cross(R - P).norm());
-  CHECK(area(out) == Approx(2 * left).epsilon(1e-6));
+  CHECK(surface_area(out) == Approx(2 * left).epsilon(1e-6));
   // Winding kept: every output normal (geometric) points like the input's.
   const Eigen::Vector3d n_in = (Q - P).cross(R - P);
   for (Eigen::Index f = 0; f < out.F.rows(); ++f) {
@@ -386,7 +382,7 @@ TEST_CASE("stitch: geometry on cell planes and outer boundaries is neither lost 
   REQUIRE(ClipStitcher().stitch(in, lat, lat.cells, labels, out, rep));
   CHECK(rep.regions == 3);
   CHECK(rep.triangles_clipped == 6);  // the 2 rail triangles, in each of the 3 regions
-  CHECK(area(out) == Approx(area(in)).epsilon(1e-6));
+  CHECK(surface_area(out) == Approx(surface_area(in)).epsilon(1e-6));
   // The walls lying in the planes x = 0..4 appear exactly once each.
   for (int i = 0; i <= 4; ++i) CHECK(wall_area(out, i * p) == Approx(1.0).epsilon(1e-6));
   // The rail is cut at x = 2 and x = 3; its UVs differ across those seams (a
@@ -409,7 +405,7 @@ TEST_CASE("stitch: an interior copy of an end cell loses its overhang", "[stitch
   Builder cell0;  // the content of input cell 0 without the overhang: wall at x = 0 and a box
   cell0.quad({0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1});
   cell0.box({0.2, 0.2, 0.2}, {0.8, 0.7, 0.6});
-  CHECK(area(out) == Approx(area(in) + area(cell0.mesh())).epsilon(1e-6));
+  CHECK(surface_area(out) == Approx(surface_area(in) + surface_area(cell0.mesh())).epsilon(1e-6));
   const auto bo = restitch::bounding_box(out), bi = restitch::bounding_box(in);
   CHECK(bo.min.x() == bi.min.x());
   CHECK(bo.max.x() == Approx(bi.max.x() + 1).epsilon(1e-7));
@@ -426,7 +422,7 @@ TEST_CASE("stitch: an interior copy of an end cell loses its overhang", "[stitch
   Builder cell2;  // input cell 2 without its overhang: the wall at x = 2 and a box
   cell2.quad({2, 0, 0}, {2, 1, 0}, {2, 1, 1}, {2, 0, 1});
   cell2.box({2.2, 0.2, 0.2}, {2.8, 0.7, 0.6});
-  CHECK(area(out) == Approx(area(in) + area(cell2.mesh())).epsilon(1e-6));
+  CHECK(surface_area(out) == Approx(surface_area(in) + surface_area(cell2.mesh())).epsilon(1e-6));
   for (int i = 0; i <= 4; ++i) CHECK(wall_area(out, i) == Approx(1.0).epsilon(1e-6));
 }
 
@@ -454,7 +450,7 @@ TEST_CASE("stitch: an output one cell long keeps both ends (end caps)", "[stitch
     CHECK(bo.min.x() == Approx(bi.min.x()).margin(1e-6));
     CHECK(bo.size().x() == Approx(bi.size().x() - (n - 1) * p).epsilon(1e-6));
     CHECK(bo.size().y() == Approx(bi.size().y()).epsilon(1e-6));
-    CHECK(area(out) == Approx(area(left.mesh()) + area(box0.mesh()) + area(right.mesh())).epsilon(1e-6));
+    CHECK(surface_area(out) == Approx(surface_area(left.mesh()) + surface_area(box0.mesh()) + surface_area(right.mesh())).epsilon(1e-6));
   }
   // Anchored at both ends (one cell in, one out): no cap.
   Mesh out;
@@ -479,12 +475,12 @@ TEST_CASE("stitch: an end cap starts at the lattice's end plane inside an end ce
   StitchReport rep;
   // At the cell plane (the default) the panel is lost: nothing lies beyond x = 4.
   REQUIRE(ClipStitcher().stitch(in, lat, Eigen::Array3i(1, 1, 1), label, out, rep));
-  CHECK(area(out) == Approx(area(box0.mesh())).epsilon(1e-6));
+  CHECK(surface_area(out) == Approx(surface_area(box0.mesh())).epsilon(1e-6));
   // From the end plane 3.5 on, the last cell's panel lands at [0.6, 0.8], as in a 1-box model.
   lat.end_high(0) = 0.5;
   REQUIRE(ClipStitcher().stitch(in, lat, Eigen::Array3i(1, 1, 1), label, out, rep));
   CHECK(rep.end_caps == 1);
-  CHECK(area(out) == Approx(area(box0.mesh()) + area(panel.mesh())).epsilon(1e-6));
+  CHECK(surface_area(out) == Approx(surface_area(box0.mesh()) + surface_area(panel.mesh())).epsilon(1e-6));
   const auto bo = restitch::bounding_box(out);
   CHECK(bo.min.x() == Approx(0.2).epsilon(1e-6));
   CHECK(bo.max.x() == Approx(0.8).epsilon(1e-6));
@@ -498,7 +494,7 @@ TEST_CASE("stitch: an end cap starts at the lattice's end plane inside an end ce
   low.end_low(0) = 0.5;
   REQUIRE(ClipStitcher().stitch(c.mesh(), low, Eigen::Array3i(1, 1, 1), {Eigen::Array3i(1 - n, 0, 0)}, out, rep));
   CHECK(rep.end_caps == 1);
-  CHECK(area(out) == Approx(area(start.mesh()) + area(last.mesh())).epsilon(1e-6));
+  CHECK(surface_area(out) == Approx(surface_area(start.mesh()) + surface_area(last.mesh())).epsilon(1e-6));
   CHECK(restitch::bounding_box(out).min.x() == Approx(0.2).epsilon(1e-6));
 }
 
@@ -522,7 +518,7 @@ TEST_CASE("stitch: a sheared lattice clips along the sheared planes", "[stitch]"
   REQUIRE(ClipStitcher().stitch(in, lat, lat.cells, labels, out, rep));
   CHECK(rep.regions == 2);
   const double cell_area = lat.A.col(0).cross(lat.A.col(1)).norm();
-  CHECK(area(out) == Approx(4 * cell_area).epsilon(1e-6));
+  CHECK(surface_area(out) == Approx(4 * cell_area).epsilon(1e-6));
   // Every output triangle lies in the region it belongs to, in canonical space:
   // [0,2]x[0,1] or [0,1]x[0,2] (region 0, an L) or [1,2]x[1,2] (region 1).
   const double e = 1e-6;
@@ -571,7 +567,7 @@ TEST_CASE("stitch: welding joins coincident seam vertices of one group only", "[
     ClipStitcher st;
     st.weld = weld;
     REQUIRE(st.stitch(in, lat, Eigen::Array3i(6, 1, 1), labels, out, rep));
-    CHECK(area(out) == Approx(area(in) + 2 + 2).epsilon(1e-6));
+    CHECK(surface_area(out) == Approx(surface_area(in) + 2 + 2).epsilon(1e-6));
     return out;
   };
   StitchReport r0, r1, r2, r3;
@@ -706,7 +702,7 @@ TEST_CASE("stitch: a dense 3-D grid model keeps its area under a 3-axis stretch"
   double expect = 0;
   for (int j = 0; j < out_cells(1); ++j)
     for (int i = 0; i < out_cells(0); ++i) expect += area_in_cell(i < 2 ? i : i - 2, j < 2 ? j : j - 1);
-  CHECK(area(out) == Approx(expect).epsilon(1e-6));
+  CHECK(surface_area(out) == Approx(expect).epsilon(1e-6));
 }
 
 TEST_CASE("stitch: seam vertices within the tolerance that may not weld (normals differ) take one position", "[stitch]") {
@@ -790,5 +786,5 @@ TEST_CASE("stitch: a seam along existing edges whose sides are tessellated diffe
   CHECK(restitch::boundary_edge_count(open) == 3);  // the plain side, and the two through m
   CHECK(rep.zip_triangles == 1);
   CHECK(restitch::boundary_edge_count(out) == 0);
-  CHECK(area(out) - area(open) == Approx(0.5 * (hi - lo) * d).epsilon(1e-3));  // one triangle, d high
+  CHECK(surface_area(out) - surface_area(open) == Approx(0.5 * (hi - lo) * d).epsilon(1e-3));  // one triangle, d high
 }

@@ -1,6 +1,6 @@
 // restitch benchmark: prints figures as tables and writes them as JSON.
 //
-//   bench [--quick] [--json FILE] [--models DIR] [--only SECTION]   (default FILE: bench.json)
+//   bench [--quick] [--json FILE] [--models DIR] [--only SECTION] [--family NAME]   (default FILE: bench.json)
 //
 // 1. analysis: time per stage on the samples at growing sizes (~2k to ~1M triangles; --quick: to
 //    ~20k), on one thread and on every hardware thread, peak memory, the growth exponent, and
@@ -28,6 +28,7 @@
 //    and whether the period found along its repeat is the family's
 //
 //   bench --only detectors     runs section 6 alone
+//   --family NAME              sections 7, 8 and 10 on that generated family alone
 //
 // Times are wall-clock (steady_clock), best of a few runs for the short ones.
 // They are measurements of this machine, never asserted anywhere.
@@ -606,10 +607,14 @@ void print_tally(const Tally& t) {
               c['.'] + c['e'], c['o'], c['e'], c['W'], c['w'], c['X'], c['R'], c['A'], t.opened, t.opened_warned);
 }
 
-const std::vector<std::string>& count_families() {
-  static const std::vector<std::string> f{"connector", "box_header", "cabinet", "radiator", "railing", "shutter",
-                                          "fence", "pin_header", "bookshelf", "facade", "facade_sheared", "tube_rail"};
-  return f;
+std::string only_family;  // --family: sections 7, 8 and 10 on this family alone
+
+std::vector<std::string> count_families() {
+  static const std::vector<std::string> f{"connector", "box_header", "dip",   "cabinet",   "radiator",
+                                          "railing",   "shutter",    "fence", "pin_header", "bookshelf",
+                                          "facade",    "facade_sheared", "tube_rail"};
+  if (only_family.empty()) return f;
+  return {only_family};
 }
 
 // Section 7: each family at n = 2..10 modules resized to the size of the family at every other count m along
@@ -807,10 +812,12 @@ int main(int argc, char** argv) {
       models = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc)
       only = argv[++i];
+    else if (!std::strcmp(argv[i], "--family") && i + 1 < argc)
+      only_family = argv[++i];
     else
       return std::fprintf(stderr,
                           "usage: bench [--quick] [--json FILE] [--models DIR] [--only "
-                          "analysis|shot|comparison|scaling|synthetic|detectors|counts|parameters|vertex_repeats|long]\n"),
+                          "analysis|shot|comparison|scaling|synthetic|detectors|counts|parameters|vertex_repeats|long] [--family NAME]\n"),
              2;
   }
   const auto run = [&](const char* section) { return only.empty() || only == section; };

@@ -1,4 +1,5 @@
-// tests/support/boundary_length.hpp - test-only: the total length of a mesh's open (boundary) edges.
+// tests/support/boundary_length.hpp - test-only: the total length of a mesh's open (boundary) edges, and
+// its surface area.
 //
 // Edges as restitch/mesh_boundary.hpp counts them (positions welded at the stitcher's weld tolerance,
 // an edge used by exactly one face), summed by length in model units. A seam that crosses an edge the
@@ -15,6 +16,14 @@
 #include "restitch/mesh_boundary.hpp"
 
 namespace restitch::test {
+
+/// The sum of the triangles' areas (model units squared). A result with the surface of the truth in place
+/// and the same area holds nothing more (no piece of a part copied twice over a face). Cost O(#F).
+inline double surface_area(const Mesh& m) {
+  double a = 0;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) a += 0.5 * double_area(m, f);
+  return a;
+}
 
 inline double open_boundary_length(const Mesh& m) {
   const std::vector<std::uint32_t> rep = weld_positions(m, weld_tolerance_of(m));

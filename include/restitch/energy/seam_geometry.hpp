@@ -248,14 +248,17 @@ class CellSlabs {
   /// the input's surface (set_surface): the other copy has surface there too, close enough for the seam
   /// to close. Without a surface set: when the input has a sample within 1.5 spacings of it (the match
   /// distance of the end planes' periodic part, lattice/fit.hpp). fail[j + J] counts the samples near t_j that are not
-  /// continued, cut[j + J] all samples near t_j (the surface the cut crosses), valid[j + J] whether
+  /// continued, cut[j + J] all samples near t_j (the surface the cut crosses), changed[j + J] the samples
+  /// between the cell plane and t_j, of either copy, that are not continued (what moving the cut there
+  /// adds to the result or takes from it: the copy that now holds that slab has them and the other had
+  /// not, or the other way round), valid[j + J] whether
   /// both copies exist there: t > 1 needs input cell y - di = s + e_a, t < 1 needs x - dj = s - delta
   /// (s and s + e_a - delta, the copies' own cells, must lie in the input, else nothing is valid).
   /// Cells are clamped as in the stitcher. Cached per (s, a, delta, K). Cost of a new one: O(n (log N
   /// + J)) for the n samples of those four cells (an AABB tree over the N input triangles with a surface
   /// set, else a k-d tree over all N samples; built on first use).
   struct SeamPositions {
-    std::vector<int> fail, cut;
+    std::vector<int> fail, cut, changed;
     std::vector<char> valid;
   };
   template <class = void>
@@ -267,6 +270,7 @@ class CellSlabs {
     const int J = K / 2 - 1;
     out.fail.assign(std::size_t(2 * J + 1), 0);
     out.cut.assign(std::size_t(2 * J + 1), 0);
+    out.changed.assign(std::size_t(2 * J + 1), 0);
     out.valid.assign(std::size_t(2 * J + 1), 1);
     Eigen::Array3i e = Eigen::Array3i::Zero();
     e[a] = 1;
@@ -303,6 +307,7 @@ class CellSlabs {
           }
           for (int j = -J; j <= J; ++j) {
             const double t = 1.0 + double(j) / K;
+            if (!found && (j < 0 ? (w >= t && w < 1.0) : (w >= 1.0 && w < t))) ++out.changed[std::size_t(j + J)];
             if (side == 0 ? (w < t - h || w >= t) : (w < t || w >= t + h)) continue;
             ++out.cut[std::size_t(j + J)];
             if (!found) ++out.fail[std::size_t(j + J)];

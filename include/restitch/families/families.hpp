@@ -21,6 +21,8 @@
 //   cabinet         short drawers over one tall drawer.                     m
 //   connector       a housing reaching past pin 1 (at the origin), a key,
 //                   a back-wall slot next to each end.                      mm
+//   dip             a dual in-line package: two rows of pins under one
+//                   body, a pin-1 dimple reaching into the gap after pin 1. mm
 //   radiator        sections, a valve under one of them; `drift` grows the
 //                   pitch along the row (no exact copies).                  m
 //   railing         balusters alternating plain / with a ring: the period

@@ -512,6 +512,7 @@ const std::vector<SampleFamily>& families() {
       {box_header_info, box_header_check, box_header_build, 1.0, 10.0},
       {cabinet_info, cabinet_check, cabinet_build, 0.1, 1.0},
       {connector_info, connector_check, connector_build, 1.0, 10.0},
+      {dip_info, dip_check, dip_build, 1.0, 10.0},
       {facade_info, facade_check, facade_build, 1.0, 1.0},
       {facade_sheared_info, facade_check, facade_build, 1.0, 1.0},
       {fence_info, fence_check, fence_build, 0.1, 1.0},

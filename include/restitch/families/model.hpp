@@ -52,7 +52,8 @@ struct SampleModel {
   std::vector<int> counts;
   /// Module blocks along each generator: counts[g] - 1 for the bookshelf
   /// (one compartment lives in the end cap, next to the side panel or the
-  /// top board), counts[g] for the others.
+  /// top board), counts[g] - 2 for the DIP (each end cap holds the end pins),
+  /// counts[g] for the others.
   std::vector<int> modules;
   /// Corner of module 0 along every generator: module (i, j) is the template
   /// module translated by origin + i * generators[0] + j * generators[1].

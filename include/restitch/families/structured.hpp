@@ -172,6 +172,105 @@ void connector_build(const ParameterValues& v, restitch::detail::SampleMeshBuild
 }
 
 // ---------------------------------------------------------------------------
+// dip
+//
+// A dual in-line package: pin 1 at the origin, `pins` pins a side along +x in two rows (z = -+row), under
+// one moulded body that ends `wall` past the first and the last pin, less than half a pitch, and a dimple
+// marking pin 1 in the top. x: [start cap: the body's end and pin 1] [module: one pin of each row] x
+// (pins - 2) [end cap: the last pins and the body's end]; block boundaries lie half a pitch past a pin.
+// The dimple runs from `marker_x` past pin 1 over `marker_width`; where it reaches past the first
+// boundary (the default) the part that occurs once spans the start cap and the next block, and a cell
+// plane in the gap after pin 1 can cut it.
+
+inline SampleInfo dip_info() {
+  return {"dip",
+          "A dual in-line chip package: pin 1 at the origin, two rows of pins along x under one body that ends "
+          "less than half a pitch past the end pins, a dimple marking pin 1 in the top, reaching into the gap "
+          "after it. Repeats along x (pins a side). Millimetres.",
+          "mm",
+          {{"pins", 5, 2, 40, true, "pins a side (repeats along x)"},
+           {"pitch", 2.54, 1.0, 5.0, false, "distance between pins (mm)"},
+           {"wall", 0.9, 0.3, 2.5, false, "distance from the first (last) pin to the body's end (mm)"},
+           {"width", 6.4, 2.0, 20.0, false, "width of the body (z, mm)"},
+           {"height", 3.3, 1.0, 10.0, false, "height of the body (mm)"},
+           {"row", 2.5, 0.5, 10.0, false, "distance of each row of pins from the middle (z, mm)"},
+           {"marker_x", 0.45, -2.0, 5.0, false, "start of the pin-1 dimple past pin 1 (x, mm)"},
+           {"marker_width", 0.9, 0.2, 3.0, false, "side of the square pin-1 dimple (mm)"},
+           {"marker_depth", 0.1, 0.02, 1.0, false, "depth of the pin-1 dimple (mm)"},
+           {"pin_size", 0.5, 0.2, 2.0, false, "side of a pin's square section (mm)"},
+           {"pin_below", 3.0, 0.5, 20.0, false, "length of a pin below the body (mm)"},
+           {"detail", 1, 1, 64, true, "tessellation level: edges are cut every 1 mm / detail"}}};
+}
+
+template <class = void>
+Status dip_check(const ParameterValues& v) {
+  const double p = v["pitch"], w = v["wall"], mx = v["marker_x"], mw = v["marker_width"];
+  if (!(w < p / 2)) return constraint(false, "wall must be less than half the pitch");
+  if (!(w > v["pin_size"] / 2 + 0.1)) return constraint(false, "wall must reach at least 0.1 past a pin's side");
+  if (!(v["pin_size"] < p - 0.2)) return constraint(false, "pin_size must be less than pitch - 0.2");
+  if (!(v["row"] + v["pin_size"] / 2 < v["width"] / 2)) return constraint(false, "the rows of pins must lie under the body: row + pin_size / 2 < width / 2");
+  if (!(mx > -w + 0.1 && mx + mw < 1.5 * p - 0.1))
+    return constraint(false, "the dimple must lie between the body's end and the next gap: -wall + 0.1 < marker_x and marker_x + marker_width < 1.5 pitch - 0.1");
+  if (!(mw < v["width"] / 2 - 0.2)) return constraint(false, "marker_width must be less than width / 2 - 0.2");
+  if (!(v["marker_depth"] < v["height"] / 2)) return constraint(false, "marker_depth must be less than height / 2");
+  return {};
+}
+
+template <class = void>
+void dip_build(const ParameterValues& v, restitch::detail::SampleMeshBuilder& B, SampleModel& out) {
+  const int n = v.count("pins");
+  const double p = v["pitch"], wall = v["wall"], W = v["width"], H = v["height"], row = v["row"], mx = v["marker_x"],
+               mw = v["marker_width"], md = v["marker_depth"], a = v["pin_size"] / 2, below = v["pin_below"];
+  const int body = B.add_material(make_material("body", 0.08f, 0.08f, 0.09f, 0.0f, 0.6f));
+  const int tin = B.add_material(make_material("tin", 0.80f, 0.80f, 0.82f, 1.0f, 0.35f));
+  const Blocks X{n - 2};
+  out.origin = Vec3(p / 2, 0, 0);
+  out.generators = {Vec3(p, 0, 0)};
+  out.count_parameters = {"pins"};
+  out.counts = {n};
+  out.modules = {n - 2};
+  out.parts = {{0, -1, mx + mw > p / 2 ? 0 : -1, "low end", "pin-1 dimple"}};
+  const double g0 = W / 4 - mw / 2, g1 = W / 4 + mw / 2;  // the dimple's extent along z
+  for (int bx = -1; bx <= X.n; ++bx) {
+    const bool start = X.start(bx), end = !start && !X.module(bx);
+    const double x0 = start ? -wall : p / 2 + bx * p, x1 = end ? (n - 1) * p + wall : p / 2 + (bx + 1) * p;
+    const double L = x1 - x0, pin = (start ? 0.0 : end ? (n - 1) * p : p + bx * p) - x0;
+    B.set_block(Vec3(x0, 0, 0), bx);
+    B.set_material(body);
+    // The body's faces on one grid per block (x cut where the dimple starts and ends in it, z where it does in
+    // every block), so faces meet edge to edge, across the blocks too: no T-junction, the model is closed.
+    const double h0 = std::max(0.0, mx - x0), h1 = std::min(L, mx + mw - x0);  // the dimple in this block
+    const bool dimple = h0 < h1;
+    std::vector<double> xs{0.0};
+    if (dimple && h0 > 0) xs.push_back(h0);
+    if (dimple && h1 < L) xs.push_back(h1);
+    xs.push_back(L);
+    const double zs[4] = {-W / 2, g0, g1, W / 2};
+    for (std::size_t i = 0; i + 1 < xs.size(); ++i) {
+      for (int j = 0; j < 3; ++j) {
+        if (!(dimple && j == 1 && xs[i] >= h0 && xs[i + 1] <= h1)) face(B, 1, true, H, xs[i], xs[i + 1], zs[j], zs[j + 1]);
+        face(B, 1, false, 0, xs[i], xs[i + 1], zs[j], zs[j + 1]);  // bottom
+      }
+      face(B, 2, true, W / 2, xs[i], xs[i + 1], 0, H);  // front, back
+      face(B, 2, false, -W / 2, xs[i], xs[i + 1], 0, H);
+    }
+    for (int j = 0; j < 3; ++j) {
+      if (start) face(B, 0, false, 0, 0, H, zs[j], zs[j + 1]);
+      if (end) face(B, 0, true, L, 0, H, zs[j], zs[j + 1]);
+    }
+    if (dimple) {  // its floor and walls
+      face(B, 1, true, H - md, h0, h1, g0, g1);
+      face(B, 2, true, g0, h0, h1, H - md, H);
+      face(B, 2, false, g1, h0, h1, H - md, H);
+      if (mx >= x0) face(B, 0, true, h0, H - md, H, g0, g1);
+      if (mx + mw <= x1) face(B, 0, false, h1, H - md, H, g0, g1);
+    }
+    B.set_material(tin);  // one closed pin of each row, touching the body
+    for (const double z : {-row, row}) B.box(Vec3(pin - a, -below, z - a), Vec3(pin + a, 0, z + a), box_all);
+  }
+}
+
+// ---------------------------------------------------------------------------
 // box_header
 //
 // A shrouded two-row header: pin 1 at the origin, `columns` columns of two pins (rows at z = +-pitch/2)

@@ -128,8 +128,9 @@ inline constexpr double separable_budget = double(1 << 20);
 /// The labelling problem of grid steps `k` with the seam energy options.seam_energy (`cells` for the
 /// descriptor energy, `slabs` for the geometric one), end cells kept out of the middle (2.3), and the parts
 /// of `structure` (null: none) kept once (2.10): every slab of a part along a resized axis is copied only
-/// with the part's shift (CellStructure::shift_of), and placed there unless it is the input's end slab
-/// (whose place the anchored ends and end caps keep, also when one output cell holds both ends).
+/// with the part's shift (CellStructure::shift_of), and placed there, an end slab too (the anchored ends
+/// only pull toward it, and an end cap starts at an end plane that a thin part can lie beyond), except on
+/// an output one cell long, where both ends' caps meet in that cell.
 template <class = void>
 SeamMrf make_seam_problem(CellDescriptors& cells, CellSlabs& slabs, const Lattice& grid, const RetargetOptions& options,
                           const CellStructure* structure, const Eigen::Array3i& k) {
@@ -141,7 +142,8 @@ SeamMrf make_seam_problem(CellDescriptors& cells, CellSlabs& slabs, const Lattic
       const int a = p.axis;
       if (k[a] == 0) continue;
       const int d = CellStructure::shift_of(p, k[a]);
-      for (int j = p.first; j <= p.last; ++j) problem.pin_slab(a, j, d, j != 0 && j != grid.cells[a] - 1);
+      const bool one_cell = grid.cells[a] + k[a] == 1;  // both ends' caps meet in the one output cell
+      for (int j = p.first; j <= p.last; ++j) problem.pin_slab(a, j, d, !one_cell);
     }
   return problem;
 }

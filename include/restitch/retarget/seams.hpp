@@ -188,7 +188,7 @@ MovedPlanes move_seams(CellSlabs& slabs, const Eigen::Array3i& k, const Eigen::A
   constexpr int K = MovedPlanes::K, H = K / 2 - 1;
   for (int a = 0; a < 3; ++a)
     for (int i = 1; i < cells_out[a]; ++i) {
-      std::vector<std::int64_t> fail(2 * H + 1, 0), cut(2 * H + 1, 0);
+      std::vector<std::int64_t> fail(2 * H + 1, 0), cut(2 * H + 1, 0), changed(2 * H + 1, 0);
       std::vector<char> valid(2 * H + 1, 1);
       bool seam = false, blocked = false;
       for (std::int64_t xi = 0; xi < out.size() && !blocked; ++xi) {
@@ -210,13 +210,14 @@ MovedPlanes move_seams(CellSlabs& slabs, const Eigen::Array3i& k, const Eigen::A
         for (std::size_t q = 0; q < valid.size(); ++q) {
           fail[q] += p.fail[q];
           cut[q] += p.cut[q];
+          changed[q] += p.changed[q];
           valid[q] = char(valid[q] && p.valid[q]);
         }
       }
       if (!seam || blocked || !valid[H] || fail[H] == 0) continue;
       int best = H;
       const auto key = [&](int q) {
-      return std::make_tuple(fail[std::size_t(q)], cut[std::size_t(q)], std::abs(q - H), q);
+      return std::make_tuple(fail[std::size_t(q)], changed[std::size_t(q)], cut[std::size_t(q)], std::abs(q - H), q);
     };
       for (int q = 0; q <= 2 * H; ++q)
         if (valid[std::size_t(q)] && fail[std::size_t(q)] < fail[H] && key(q) < key(best)) best = q;
