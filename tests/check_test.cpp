@@ -259,6 +259,39 @@ TEST_CASE("check: copies glued end cap to end cap are an unmatched seam; an exac
   CHECK(three->report.warnings.empty());
 }
 
+// A package of 2 pins a side whose pin-1 dimple lies in one of its two modules has no repeat; with the pitch
+// typed (promote_offsets, as --offsets) each of its two cells holds an end, and grown by 2 it comes out as two
+// 2-pin packages end to end: closed, each a piece of the input moved by whole periods, no seam joining
+// surface to none (the cell planes lie past the bodies' ends). The input is one piece over its whole box and
+// the output is not: "side by side". The 3-pin package grown by 2, one piece, passes.
+TEST_CASE("check: copies of a whole one-piece model next to each other are side by side", "[check][samples]") {
+  for (const int n : {2, 3}) {
+    INFO(n << " pins a side");
+    auto in = families::generate("dip", {{"pins", n}});
+    REQUIRE(in.ok());
+    auto a = analyze(in->mesh);
+    REQUIRE(a.ok());
+    REQUIRE(promote_offsets(in->mesh, AnalysisOptions<>{}, {Eigen::Vector3d(2.54, 0, 0)}, *a).ok());
+    auto steps = lattice_steps_from_world(*a, {2, 0, 0});
+    REQUIRE(steps.ok());
+    Retargeter<> r(in->mesh, *a);
+    auto out = r.retarget(*steps);
+    REQUIRE(out.ok());
+    auto truth = families::generate("dip", {{"pins", n + 2}});
+    REQUIRE(truth.ok());
+    std::set<std::string> checks;
+    for (const ResultWarning& w : out->report.warnings) checks.insert(w.check);
+    if (n == 2) {
+      CHECK_FALSE(exact(out->mesh, truth->mesh));
+      CHECK(boundary_edge_count(out->mesh) == 0);
+      CHECK(checks == std::set<std::string>{"side by side"});
+    } else {
+      CHECK(exact(out->mesh, truth->mesh));
+      CHECK(checks.empty());
+    }
+  }
+}
+
 // "size" for a request by size: the shutter of 4 slats (2 + rail + 2) has the run with its rail (0.2) as
 // its period, so the height of 6 slats (0.6, from 0.46) is no whole number of periods away: the nearest
 // (0.66) is given and warned. A size that whole periods reach, the same size typed as printed, or the exact

@@ -127,7 +127,7 @@ export interface Seam {
   outer: boolean;
 }
 
-/** The result check's finding: check is "open seam", "part count", "size", "floating piece", ... */
+/** The result check's finding: check is "open seam", "part count", "size", "floating piece", "side by side", ... */
 export interface Warning {
   check: string;
   message: string;

@@ -107,7 +107,7 @@ void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen
   std::printf("\n  wrote %s: %zu triangles in, %zu out\n", args.output.c_str(), rep.triangles_in, rep.triangles_out);
   std::printf("  boundary edges (positions welded): %zu in, %zu out, %zu new\n", rep.boundary_edges_in,
               rep.boundary_edges_out, rep.boundary_edges_new());
-  std::printf("  check: %s\n", rep.warnings.empty() ? "passed (no open or unmatched seam, parts once, size as asked, no floating piece)"
+  std::printf("  check: %s\n", rep.warnings.empty() ? "passed (no open or unmatched seam, parts once, size as asked, no floating piece, one piece)"
                                                      : (std::to_string(rep.warnings.size()) + " warning(s)").c_str());
   if (rep.weld_tolerance_measured)
     std::printf("  weld tolerance %.3g of the diagonal, measured: the copies' vertices coincide to that (docs/method.md 3)\n",
@@ -222,7 +222,7 @@ void register_resize(CLI::App& app, int* exit_code) {
                 "where the two copies continue each other)");
   cmd->add_flag("--strict", args->strict,
                 "exit 7 when the result check flags the result: an open seam, a part that occurs once copied a wrong "
-                "number of times, a size not the one asked, a floating piece, or an axis or centred part whole "
+                "number of times, a size not the one asked, a floating piece, copies side by side, or an axis or centred part whole "
                 "periods cannot decide (the output is still written)");
   cmd->add_option("--max-problem", args->max_problem, "refuse requests with more nodes x labels than this")
       ->capture_default_str();

@@ -19,6 +19,9 @@
 //     request by size without the exact scale (check_size_asked), one that is not the size asked.
 //   * "floating piece": a group of touching pieces of the output whose box is no input group's box
 //     grown by whole periods along the resized axes (a fragment cut off, a copy left in the air).
+//   * "side by side": the input is held together by one group over its whole box and the output by
+//     none: copies of the whole model placed next to each other (a 2-pin package grown into two
+//     packages end to end, each a group the floating-piece test knows), not one model resized.
 // Tolerances: positions at twice the stitcher's weld tolerance (a cut point lies on its input edge to
 // float rounding; twice, because both ends of an edge are compared); sizes and contact at 1e-3 of the
 // bounding-box diagonal, the tolerance at which restitch/lattice/structure.hpp calls two slabs copies
@@ -315,6 +318,23 @@ void check_result(const InputShape& input, const Mesh& out, const Lattice& grid,
       break;
     }
   }
+
+  // Side by side: an input that one group spans whole gives an output that one group spans whole.
+  const auto spans = [&](const BoundingBox& g, const Eigen::Vector3d& size) {
+    return (g.size() - size).cwiseAbs().maxCoeff() <= input.contact;
+  };
+  bool one_piece = false, still = false;
+  for (const BoundingBox& h : input.groups) one_piece = one_piece || spans(h, rep.size_in);
+  const BoundingBox* largest = nullptr;
+  for (const BoundingBox& g : groups) {
+    still = still || spans(g, rep.size_out);
+    if (!largest || g.size().norm() > largest->size().norm()) largest = &g;
+  }
+  if (one_piece && !still && largest)
+    rep.warnings.push_back({"side by side", "the input is one piece over its whole box and the output is not (its largest "
+                                            "piece is " + detail::format_size(largest->size().norm()) + " across of " +
+                                            detail::format_size(rep.size_out.norm()) +
+                                            "): copies of the model side by side, not one model resized"});
 }
 
 /// The result check's "size asked" (docs/method.md 2.11), for a request by size without the exact scale:

@@ -41,7 +41,7 @@ struct PartReport {
 
 /// Something in a result a modeller would look at: the check that found it and a sentence. Checks:
 /// "undecided axis", "part off centre" and "pair" (known when the request is planned,
-/// restitch/retarget/labelling.hpp), "open seam", "part count", "size" and "floating piece" (the result check, restitch/retarget/check.hpp).
+/// restitch/retarget/labelling.hpp), "open seam", "part count", "size", "floating piece" and "side by side" (the result check, restitch/retarget/check.hpp).
 struct ResultWarning {
   std::string check;
   std::string message;
