@@ -7,7 +7,9 @@
 //
 //   origin  (default) the model's origin (0,0,0), clamped into its bounding
 //           box: the content there stays where it is. Along a lattice axis,
-//           with the model's structure (restitch/lattice/structure.hpp): in
+//           with the model's structure (restitch/lattice/structure.hpp): at
+//           the model's centre (a quarter period) the centre stays unless a
+//           centred part holds the origin; otherwise in
 //           a part that occurs once, that part stays (a part at an end keeps
 //           that end fixed, a centred one splits as `center`); in repeated
 //           content, the end of the model nearer to it stays fixed, and growth
@@ -19,7 +21,8 @@
 //           Without the structure (RetargetOptions::keep_parts off, the
 //           regular baseline), or along an axis where no cell repeats, the
 //           cell holding it decides: the first cell
-//           keeps that end, the last cell the other, any other splits evenly.
+//           keeps that end, the last cell the other, any other splits evenly
+//           (the centre staying when the origin is at the box's centre).
 //           A single-cell axis keeps the end of the half the origin lies in.
 //   min     the end at the bounding box's minimum stays fixed.
 //   max     the end at the bounding box's maximum stays fixed.
@@ -153,20 +156,26 @@ Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& 
         // short to compare: there the cells decide, as without it).
         const std::vector<int>* copies = structure && n > 1 ? &structure->copy_of[std::size_t(a)] : nullptr;
         if (copies && std::any_of(copies->begin(), copies->end(), [](int i) { return i >= 0; })) {
-          if (const SingularPart* p = structure->part_of(a, j))
+          // Within a quarter period of the centre: split (a package built about its centre, whose key or
+          // marker at one end moves the box's centre a little), also where the cell there belongs to a part
+          // at an end (the marker of a 3-pin package reaching into the middle pin's cell). Otherwise in a
+          // part: the part stays where it is (a centred one too, at the centre: it stays whole cells where
+          // it was). In the first or last module that repeats (pin 1 of a two-pin
+          // part, half a period from its centre): the nearer end. Elsewhere within half a period of the
+          // centre: split.
+          const double to_low = c[a] - structure->extent_low[a], to_high = structure->extent_high[a] - c[a];
+          const double off = std::abs(to_low - to_high) / 2;
+          centred = off <= structure->centre_near(a);
+          const SingularPart* p = structure->part_of(a, j);
+          if (p && centred && p->anchor != PartAnchor::centre) p = nullptr;
+          if (p) {
+            centred = false;
             low = CellStructure::shift_of(*p, k);  // the part stays where it is
-          else {
-            // Within a quarter period of the centre: split (a package built about its centre, whose key or
-            // marker at one end moves the box's centre a little). In the first or last module that repeats
-            // (pin 1 of a two-pin part, half a period from its centre): the nearer end. Elsewhere within half
-            // a period of the centre: split.
-            const double to_low = c[a] - structure->extent_low[a], to_high = structure->extent_high[a] - c[a];
-            const double off = std::abs(to_low - to_high) / 2;
+          } else {
             int first = 0, last = n - 1;
             while (first < n - 1 && !structure->repeats(a, first)) ++first;
             while (last > 0 && !structure->repeats(a, last)) --last;
             const bool next_to_end = j <= first || j >= last;
-            centred = off <= structure->centre_near(a);
             low = centred || (!next_to_end && off <= structure->centre_band(a)) ? split
                   : to_low < to_high                                            ? keep_low
                                                                                 : keep_high;
@@ -177,8 +186,10 @@ Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& 
           low = keep_low;
         else if (j == n - 1)
           low = keep_high;
-        else
+        else {  // a middle cell splits; at the box's centre (a quarter period, as above) the centre stays
           low = split;
+          centred = std::abs(c[a] - L.to_canonical(box.center())[a]) <= 0.25;
+        }
         break;
       }
     }
