@@ -242,6 +242,9 @@ test('the pivot stays put: max keeps the far end, center splits, origin is the d
   const center = shelf.retarget(3, 0, 0, 'lattice', 'center,origin,origin');
   assert.equal(center.ok, true, center.message);
   assert.deepEqual(center.report.pivot.low_end_cells, [1, 0, 0], 'the odd column goes to the max side');
+  // Where the centre stays, the result is centred where the input was: half the growth at each end,
+  // half a column more than the whole cells at an odd count (docs/method.md 2.7).
+  assert.ok(near(center.report.pivot.translation[0], -1.5 * v1[0], 1e-6), JSON.stringify(center.report.pivot));
   const bad = shelf.retarget(1, 0, 0, 'lattice', 'middle');
   assert.equal(bad.ok, false);
   assert.equal(bad.code, 'invalid_argument');
