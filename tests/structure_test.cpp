@@ -54,6 +54,13 @@ PartAnchor anchor_named(const std::string& a) {
 // `out` equals `truth` in place (boxes, surface distance within 1e-4 of the diagonal) and opens no more
 // length than it has (the families' parts touch without sharing vertices, so a seam plane may cut an edge
 // the input already had open in two: counted by length, as for the facades in retarget_test).
+// k grid steps along the family's repeat.
+Eigen::Array3i family_steps(const Family& f, int k) {
+  Eigen::Array3i steps = Eigen::Array3i::Zero();
+  steps[f.axis] = k;
+  return steps;
+}
+
 void check_in_place(const Mesh& out, const Mesh& truth) {
   const BoundingBox bt = bounding_box(truth), bo = bounding_box(out);
   const double size = bt.size().norm();
@@ -206,9 +213,7 @@ TEST_CASE("structure: structured families resized from every count to every othe
       for (const int m : s.counts) {
         if (m == n) continue;
         INFO("to " << m);
-        Eigen::Array3i steps = Eigen::Array3i::Zero();
-        steps[f.axis] = m - n;
-        auto out = r.retarget(steps);
+        auto out = r.retarget(family_steps(f, m - n));
         REQUIRE(out.ok());
         CHECK(out->report.parts.size() == along);
         auto truth = families::generate(s.name, {{count, m}});
@@ -249,9 +254,7 @@ TEST_CASE("structure: a pin-1 dimple a cell plane may cut is kept once, over pin
       for (int m = 3; m <= 6; ++m) {
         if (m == n) continue;
         INFO("to " << m);
-        Eigen::Array3i steps = Eigen::Array3i::Zero();
-        steps[f.axis] = m - n;
-        auto out = r.retarget(steps);
+        auto out = r.retarget(family_steps(f, m - n));
         REQUIRE(out.ok());
         std::map<std::string, double> to = at;
         to["pins"] = m;
