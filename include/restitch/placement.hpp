@@ -11,7 +11,7 @@
 //           the model's centre (a quarter period) the centre stays unless a
 //           centred part holds the origin; otherwise in
 //           a part that occurs once, that part stays (a part at an end keeps
-//           that end fixed, a centred one splits as `center`); in repeated
+//           that end fixed, a centred one takes its centring shift); in repeated
 //           content, the end of the model nearer to it stays fixed, and growth
 //           splits evenly when it lies at the model's centre (within a
 //           quarter period: halfway to where pin 1 of a two-pin part lies),
@@ -188,7 +188,7 @@ Placement place(const Lattice& L, const BoundingBox& box, const Eigen::Array3i& 
           low = keep_high;
         else {  // a middle cell splits; at the box's centre (a quarter period, as above) the centre stays
           low = split;
-          centred = std::abs(c[a] - L.to_canonical(box.center())[a]) <= 0.25;
+          centred = std::abs(c[a] - L.to_canonical(box.center())[a]) <= CellStructure::centre_quarter;
         }
         break;
       }

@@ -113,7 +113,9 @@ struct CellStructure {
   /// a quarter period, halfway to pin 1 of a two-pin part (half a period from its centre), so a key or a
   /// marker at one end of a package built about its centre, which moves the box's centre by less, does
   /// not make its origin pin 1 (docs/method.md 2.7); at least one sample spacing.
-  double centre_near(int a) const { return std::max(0.25, spacing[a]); }
+  double centre_near(int a) const { return std::max(centre_quarter, spacing[a]); }
+  /// The quarter period of centre_near, also used where no structure is known (restitch/placement.hpp).
+  static constexpr double centre_quarter = 0.25;
 
   /// Whether slab i along axis a repeats (true along an axis without a structure).
   bool repeats(int a, int i) const {
