@@ -13,6 +13,7 @@
 //   plan, labelling problem, solve    restitch/retarget/labelling.hpp
 //   seams off the cell planes         restitch/retarget/seams.hpp
 //   stitch                            restitch/retarget/stitching.hpp
+//   centred part moved half a period  restitch/retarget/centring.hpp
 //   seam report                       restitch/retarget/seams.hpp
 //   place                             restitch/placement.hpp
 // The solver policy defaults to alpha-expansion over push-relabel max-flow
@@ -62,6 +63,7 @@
 #include "restitch/lattice/label_space.hpp"
 #include "restitch/mesh_boundary.hpp"
 #include "restitch/placement.hpp"
+#include "restitch/retarget/centring.hpp"
 #include "restitch/retarget/check.hpp"
 #include "restitch/retarget/labelling.hpp"
 #include "restitch/retarget/report.hpp"
@@ -132,6 +134,40 @@ class Retargeter {
   Status check_size(const Eigen::Vector3d& target) const;
 
  private:
+  // The centred parts of rep.parts that a resize by k grid steps leaves half a period off the centre
+  // (centring_move), each moved alone the rest of the way in `mesh` where it can be (centre_part); the
+  // planned "part off centre" warning of a part so moved is taken back.
+  Status centre_parts(const Eigen::Array3i& k, RetargetReport& rep, Mesh& mesh) const {
+    if (!structure_) return {};
+    for (PartReport& pr : rep.parts) {
+      const SingularPart* p = structure_->part_of(pr.axis, pr.first);
+      const int move = p ? centring_move(*p, k[pr.axis]) : 0;
+      if (move == 0) continue;
+      CentringOptions co;
+      co.tolerance = structure_->tolerance;
+      co.spacing = structure_->spacing[pr.axis] * grid_.A.col(pr.axis).norm();
+      co.weld = stitch_.weld_tolerance();
+      Mesh centred;
+      bool moved = false;
+      RESTITCH_TRY(centre_part(
+          mesh, grid_, rep.cells_out, *p, pr.shift, move, co,
+          [this](const Mesh& m, const Lattice& l, const Eigen::Array3i& c, const std::vector<Eigen::Array3i>& s,
+                 Mesh& o, StitchReport& r) { return stitch_.stitch_mesh(m, l, c, s, o, r); },
+          centred, moved));
+      if (!moved) continue;
+      mesh = std::move(centred);
+      pr.half = move;
+      const std::string where = describe_part(*p);
+      rep.warnings.erase(std::remove_if(rep.warnings.begin(), rep.warnings.end(),
+                                        [&](const ResultWarning& w) {
+                                          return w.check == "part off centre" &&
+                                                 w.message.find(where) != std::string::npos;
+                                        }),
+                         rep.warnings.end());
+    }
+    return {};
+  }
+
   // The part of the report that does not depend on the request's size.
   void fill_input_report(const Eigen::Array3i& steps, RetargetReport& rep) const {
     rep.steps = steps;
@@ -267,6 +303,11 @@ Result<RetargetResult> Retargeter<LabelSpace, Solver, Stitcher>::retarget(const 
           rep.seams_moved += j != 0;
         }
       }
+
+    // A centred part that whole periods leave half a period off the centre, moved the rest alone (2.10).
+    t = clock::now();
+    RESTITCH_TRY(centre_parts(k, rep, out.mesh));
+    rep.timings_ms["centring"] = ms_since(t);
 
     // Seam report.
     t = clock::now();

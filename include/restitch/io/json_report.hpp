@@ -34,8 +34,9 @@
 //   passed every check), seams_moved,
 //   plane_offsets [[..] x3] (per lattice axis, the offset of each plane between output cells; [] when
 //   none moved, 2.9), parts [{axis (1-based lattice axis), cells [first, last] (1-based input cells),
-//   anchor ("low end" | "high end" | "centre"), shift (cells it moved along its axis)}] (parts that occur
-//   once, kept once; docs/method.md 2.10).
+//   anchor ("low end" | "high end" | "centre"), shift (cells it moved along its axis), half (+1 or -1: a
+//   centred part moved alone a further half period that way, 0 otherwise)}] (parts that occur once, kept
+//   once; docs/method.md 2.10).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -148,7 +149,8 @@ nlohmann::json retarget_json(const RetargetReport& r) {
     j["parts"].push_back({{"axis", p.axis + 1},
                           {"cells", {p.first + 1, p.last + 1}},
                           {"anchor", part_anchor_name(p.anchor)},
-                          {"shift", p.shift}});
+                          {"shift", p.shift},
+                          {"half", p.half}});
   return j;
 }
 

@@ -83,6 +83,10 @@ struct SingularPart {
   /// counterpart): content that occurs more than once, which a period that makes it a part has missed
   /// (docs/method.md 1.12).
   bool repeated = false;
+  /// Where its own content lies (model units): the samples of its difference from the repeated background
+  /// that place its centre (`offset`); empty without a repeating slab. A centred part is moved by half a
+  /// period where whole periods cannot centre it (restitch/retarget/centring.hpp) around these.
+  std::vector<Eigen::Vector3d> content;
 };
 
 struct CellStructure {
@@ -362,7 +366,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     // that land off the surface (what the part lacks: a key notch), at their moved place, and the samples
     // of j moved onto B that land off the surface (what it has more: the notch's sides), at their own
     // place. Their extent's middle, over the part's slabs; the slabs' middle without a repeating slab.
-    const auto content_centre = [&](int first, int last) {
+    const auto content_centre = [&](int first, int last, std::vector<Eigen::Vector3d>& where) {
       const auto nearest_repeating = [&](int j) {  // the lower on a tie; -1 when none
         for (int d = 1; d < n; ++d)
           for (const int i : {j - d, j + d})
@@ -377,6 +381,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
           if (surface->distance_within(points[k] + double(shift) * v, 2 * s.tolerance) <= s.tolerance) continue;
           const double at = at_moved ? t : canonical[k][a];
           lo_t = std::min(lo_t, at), hi_t = std::max(hi_t, at);
+          where.push_back(at_moved ? Eigen::Vector3d(points[k] + double(shift) * v) : points[k]);
         }
       };
       for (int j = first; j <= last; ++j)
@@ -401,7 +406,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         p.first = i;
         while (i + 1 < n && copy_of[std::size_t(i + 1)] < 0) ++i;
         p.last = i++;
-        const double centre = content_centre(p.first, p.last), to_low = centre - m0, to_high = m1 - centre;
+        const double centre = content_centre(p.first, p.last, p.content), to_low = centre - m0, to_high = m1 - centre;
         p.offset = 0.5 * (to_low - to_high);
         p.precision = s.spacing[a];
         if (p.first == 0)

@@ -4,8 +4,8 @@
 // at the output for what breaks that, and says so in RetargetReport::warnings (one sentence each, named
 // by its check):
 //   * "open seam": an open edge of the output that is no copy of an open edge of the input (an output
-//     boundary edge whose corners, moved back by the shift of a label or an anchored end, lie on one
-//     boundary edge of the input). Where two copies meet at a seam and continue each other, the stitcher
+//     boundary edge whose corners, moved back by the shift of a label or an anchored end, or by one of
+//     those and half a period for a centred part moved alone, lie on one boundary edge of the input). Where two copies meet at a seam and continue each other, the stitcher
 //     welds them shut; a new open edge is a cut that the other side does not continue (half a pin, a
 //     wall cut with nothing beyond it) or a crack the stitcher could not close. The input's own open
 //     edges (sheets, touching boxes) and their copies are not counted.
@@ -206,17 +206,22 @@ void check_result(const InputShape& input, const Mesh& out, const Lattice& grid,
   const Eigen::Array3i k = rep.grid_steps;
   rep.checked = true;
 
-  // Open seams. The candidate shifts: per axis, every label's component and the anchored ends' (0, k).
-  std::array<std::vector<int>, 3> along;
+  // Open seams. The candidate shifts: per axis, every label's component and the anchored ends' (0, k), and a
+  // centred part's moved a further half period alone (restitch/retarget/centring.hpp).
+  std::array<std::vector<double>, 3> along;
   for (int a = 0; a < 3; ++a) {
-    std::set<int> s{0, k[a]};
+    std::set<double> s{0.0, double(k[a])};
     for (const Eigen::Array3i& d : shift) s.insert(d[a]);
+    const std::set<double> whole = s;  // the region moved with the part copies R, whose cells have any of them
+    for (const PartReport& p : rep.parts)
+      if (p.axis == a && p.half != 0)
+        for (const double d : whole) s.insert(d + 0.5 * p.half);
     along[std::size_t(a)].assign(s.begin(), s.end());
   }
   std::vector<Eigen::Vector3d> moves;
-  for (const int x : along[0])
-    for (const int y : along[1])
-      for (const int z : along[2]) moves.push_back(grid.shift(Eigen::Array3i(x, y, z)) + rep.placement.translation);
+  for (const double x : along[0])
+    for (const double y : along[1])
+      for (const double z : along[2]) moves.push_back(grid.A * Eigen::Vector3d(x, y, z) + rep.placement.translation);
   const std::vector<BoundaryEdge> open = boundary_edges_at(out, weld_tolerance_of(out, 1e-6));
   rep.boundary_edges_out = open.size();
   rep.open_edges.clear();

@@ -32,11 +32,14 @@ struct SeamReport {
 
 /// A part that occurs once (restitch/lattice/structure.hpp) as a resize kept it: its input slabs along its
 /// lattice axis, its anchor, and the shift along that axis it was copied with (its slabs lie at slab + shift
-/// in the output grid).
+/// in the output grid), and for a centred part moved alone by a further half period, which way.
 struct PartReport {
   int axis = 0, first = 0, last = 0;
   PartAnchor anchor = PartAnchor::low;
   int shift = 0;
+  /// +1 or -1: moved alone a further half period that way along its axis, so it stays centred where whole
+  /// periods cannot keep it so (restitch/retarget/centring.hpp); 0 otherwise.
+  int half = 0;
 };
 
 /// Something in a result a modeller would look at: the check that found it and a sentence. Checks:

@@ -130,6 +130,14 @@ class StitchStage {
     return {};
   }
 
+  /// Stitches `mesh` (any mesh, not the prepared one) on `lattice` with the stitcher's plain call and its
+  /// weld tolerance: a centred part moved alone (restitch/retarget/centring.hpp).
+  template <class = void>
+  Status stitch_mesh(const Mesh& mesh, const Lattice& lattice, const Eigen::Array3i& cells_out,
+                     const std::vector<Eigen::Array3i>& shift, Mesh& out, StitchReport& st) const {
+    return stitcher_.stitch(mesh, lattice, cells_out, shift, out, st);
+  }
+
  private:
   // Stitches a labelling whose planes moved: on the grid K times finer along the moved axes (each
   // K-th of a cell takes the label of the output cell it now lies in, shifts scaled by K), so the
