@@ -102,8 +102,10 @@ void print_resize_summary(const ResizeArgs& args, const Analysis& a, const Eigen
     std::printf("\n  seam planes moved off their cell planes: %d (to where the copies continue each other)",
                 rep.seams_moved);
   for (const PartReport& part : rep.parts)  // docs/method.md 2.10
-    std::printf("\n  kept once: cells %d-%d along axis %d (at the %s), moved %d cell(s)", part.first + 1, part.last + 1,
-                part.axis + 1, part_anchor_name(part.anchor), part.shift);
+    std::printf("\n  kept once: cells %d-%d along axis %d (at the %s), moved %d cell(s)%s", part.first + 1, part.last + 1,
+                part.axis + 1, part_anchor_name(part.anchor), part.shift,
+                part.half > 0 ? " and half a period on, alone (to stay centred)"
+                : part.half < 0 ? " and half a period back, alone (to stay centred)" : "");
   std::printf("\n  wrote %s: %zu triangles in, %zu out\n", args.output.c_str(), rep.triangles_in, rep.triangles_out);
   std::printf("  boundary edges (positions welded): %zu in, %zu out, %zu new\n", rep.boundary_edges_in,
               rep.boundary_edges_out, rep.boundary_edges_new());
