@@ -6,8 +6,9 @@
 //   * "open seam": an open edge of the output that is no copy of an open edge of the input (an output
 //     boundary edge whose corners, moved back by the shift of a label or an anchored end, or by one of
 //     those and half a period for a centred part moved alone, lie on one boundary edge of the input).
-//     Where two copies meet at a seam and continue each other, the stitcher welds them shut; a new open edge is a cut that the other side does not continue (half a pin, a
-//     wall cut with nothing beyond it) or a crack the stitcher could not close. The input's own open
+//     Where two copies meet at a seam and continue each other, the stitcher welds them shut; a new open
+//     edge is a cut that the other side does not continue (half a pin, a wall cut with nothing beyond it)
+//     or a crack the stitcher could not close. The input's own open
 //     edges (sheets, touching boxes) and their copies are not counted.
 //   * "unmatched seam": a seam where one copy has surface near the cut and the other none within the seam
 //     measure's band (the measure's empty value, restitch/energy/seam_geometry.hpp): copies with nothing
