@@ -202,7 +202,7 @@ TEST_CASE("structure: structured families resized from every count to every othe
     bool open;
     bool moves;  // every odd change of its centred part moves it half a period (none is warned)
   };
-  for (const Sweep& s : {Sweep{"connector", {4, 5, 6, 7, 8}, true, false},
+  for (const Sweep& s : {Sweep{"connector", {3, 4, 5, 6, 7, 8}, true, false},
                          Sweep{"cabinet", {2, 3, 4, 5, 6, 7, 8}, true, false},
                          Sweep{"radiator", {2, 3, 4, 5, 6, 7, 8}, true, false},
                          Sweep{"box_header", {4, 5, 6, 7, 8, 9, 10}, true, true},
@@ -559,12 +559,50 @@ TEST_CASE("structure: two whole cells inside the model that are no copies leave 
   CHECK_FALSE(r2.structure()->undecided[rails]);
 }
 
+// Three modules A B A between the model's ends, no two neighbours copies (method.md 2.10, The plain one
+// repeats): the 3-pin connector's slot, plain pin, slot. B's difference from the A's is a stretch of plain back
+// wall, theirs from B a slot's side faces: B repeats, and each A is a part at its end. A railing of two
+// modules (post, plain, ring, plain, ring, post at half the module's period) has the same A B A in its middle,
+// but its first plain baluster is a copy of B but for the post's face: it stays undecided, with its warning.
+TEST_CASE("structure: of three modules A B A, the one whose difference from the others is plain repeats",
+          "[structure][samples]") {
+  const Family f = make("connector", {{"pins", 3}});
+  REQUIRE(f.axis >= 0);
+  Retargeter<> r(f.sample.mesh, f.analysis);
+  REQUIRE(r.structure());
+  const CellStructure& st = *r.structure();
+  const std::size_t a = std::size_t(f.axis);
+  CHECK_FALSE(st.undecided[a]);
+  CHECK_FALSE(st.far_copies[a]);
+  const int middle = slab_of(f, 1);
+  for (int i = 0; i < st.cells[f.axis]; ++i) {
+    INFO("cell " << i);
+    CHECK(st.copy_of[a][std::size_t(i)] == (i == middle ? middle : -1));
+  }
+  const SingularPart* first = st.part_of(f.axis, slab_of(f, 0));
+  const SingularPart* last = st.part_of(f.axis, slab_of(f, 2));
+  REQUIRE(first);
+  REQUIRE(last);
+  CHECK(first->anchor == PartAnchor::low);
+  CHECK(last->anchor == PartAnchor::high);
+  CHECK_FALSE(grown_warned(r, f.axis, "undecided axis"));
+
+  const Family rail = make("railing", {{"modules", 2}});
+  REQUIRE(rail.axis >= 0);
+  REQUIRE(rail.analysis.lattice.cells[rail.axis] == 6);
+  Retargeter<> rr(rail.sample.mesh, rail.analysis);
+  REQUIRE(rr.structure());
+  CHECK(rr.structure()->undecided[std::size_t(rail.axis)]);
+  CHECK(grown_warned(rr, rail.axis, "undecided axis"));
+}
+
 TEST_CASE("structure: cells of plain wall past the last pin are not taken as repeating", "[structure][samples]") {
   // A connector whose housing reaches 4.04 past pin 1 and past its last pin at a 1.833 pitch (its openings 1.2
   // wide, to fit): two cells of plain wall at each end, copies at any shift. Taken as repeating, they made the
   // pins one part at the low end, and 3 pins grown to 5 added wall at the high end, without a warning; or, read
-  // as a multiple, twice the pitch became the period. With 3 pins (slot, plain, slot) nothing else repeats:
-  // undecided. With 5 only the plain pins repeat, and the resize is the family's at 4 and 7 pins, in place.
+  // as a multiple, twice the pitch became the period. With 3 pins (slot, plain, slot) the plain pin repeats
+  // (method.md 2.10, The plain one repeats: the cell of wall and key before pin 1 is no copy of a pin's), with
+  // 5 only the plain pins do, and the resizes are the family's at those counts, in place.
   const std::map<std::string, double> lengths{{"pitch", 1.833}, {"wall", 4.041}, {"opening", 1.2}};
   const auto with = [&](int pins) {
     std::map<std::string, double> p = lengths;
@@ -576,7 +614,19 @@ TEST_CASE("structure: cells of plain wall past the last pin are not taken as rep
   CHECK(std::abs(three.analysis.lattice.A.col(three.axis).norm() - 1.833) < 1e-3);
   Retargeter<> r3(three.sample.mesh, three.analysis);
   REQUIRE(r3.structure());
-  CHECK(r3.structure()->undecided[std::size_t(three.axis)]);
+  CHECK_FALSE(r3.structure()->undecided[std::size_t(three.axis)]);
+  const std::vector<int>& copy_of3 = r3.structure()->copy_of[std::size_t(three.axis)];
+  for (int i = 0; i < int(copy_of3.size()); ++i) {
+    INFO("cell " << i);
+    CHECK(copy_of3[std::size_t(i)] == (i == slab_of(three, 1) ? i : -1));  // pin 2's alone, one period
+  }
+  for (const int m : {2, 4, 5}) {
+    INFO("3 pins to " << m);
+    auto out = r3.retarget(family_steps(three, m - 3));
+    REQUIRE(out.ok());
+    CHECK(out->report.warnings.empty());
+    check_in_place(out->mesh, families::generate("connector", with(m))->mesh);
+  }
   const Family five = make("connector", with(5));
   REQUIRE(five.axis >= 0);
   Retargeter<> r5(five.sample.mesh, five.analysis);

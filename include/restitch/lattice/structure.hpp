@@ -13,9 +13,10 @@
 // axis (a housing's plain wall past its last pin: copies at any shift, so no sign of the period) are not
 // taken as repeating. Where no two neighbours are copies, slabs farther apart that are, around slabs
 // that are copies of none, repeat (a box header of five columns: its two plain ones around the notch;
-// CellStructure::far_copies). Along an axis of three cells or more where nothing repeats so (three
-// modules, a slot next to each end around one plain one; a key notch that reaches every column) whole
-// periods cannot tell what occurs once: the axis is *undecided* and resized as the paper does, with a
+// CellStructure::far_copies). Three modules A B A between the ends are decided by their difference: the
+// one whose difference from the other is plain repeats (a slot next to each end around a plain module:
+// the middle repeats). Along an axis of three cells or more where nothing repeats so (a door between
+// two windows; a key notch that reaches every column) whole periods cannot tell what occurs once: the axis is *undecided* and resized as the paper does, with a
 // warning, from three whole slabs between the end planes, or two of which one is inside the model. Two
 // whole end slabs that are no copies are the model's two ends, which the anchored ends and the end caps
 // keep: no parts, no warning. The model's ends beyond their end planes are left out (the stitcher keeps them
@@ -91,7 +92,8 @@ struct SingularPart {
 
 struct CellStructure {
   /// Per lattice axis, per slab: the slab it was found a copy of (its neighbours first), itself for the
-  /// slab of a run out of phase (one period of it: docs/method.md 2.10), or -1 when it does not repeat;
+  /// slab of a run out of phase and for the plain middle of three modules A B A (one period of what
+  /// repeats: docs/method.md 2.10), or -1 when it does not repeat;
   /// empty along an axis of one cell and along dummy axes.
   std::array<std::vector<int>, 3> copy_of;
   /// Per axis: no two neighbouring slabs are copies, so what occurs once is not decided (no parts).
@@ -314,6 +316,24 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         if (copy_of[std::size_t(i)] < 0) copy_of[std::size_t(i)] = i + 1;
         copy_of[std::size_t(i + 1)] = i;
       }
+    const auto whole_slab = [&](int i) { return i >= lo - 1e-9 && i + 1 <= hi + 1e-9; };  // between the end planes
+    // What tells three modules A B A apart where nothing repeats next door (docs/method.md 2.10, The plain
+    // one repeats). Slab `from`'s difference from the slab `shift` away (its samples that land
+    // off the surface when moved there) is plain: each such sample, moved either way along a by the slide and
+    // still inside its slab, lands on the surface (a stretch of back wall where the other has a slot; not a
+    // slot's side faces, which cross a).
+    const auto difference_plain = [&](int from, int shift) {
+      for (const std::size_t k : slab[std::size_t(from)]) {
+        const double t = canonical[k][a] + shift;
+        if (t < lo_cmp || t >= hi_cmp || !off_surface(k, double(shift))) continue;
+        for (const double d : {slide, -slide}) {
+          const double u = canonical[k][a] + d;
+          if (u >= std::max(lo_cmp, double(from)) && u < std::min(hi_cmp, double(from + 1)) && off_surface(k, d))
+            return false;
+        }
+      }
+      return true;
+    };
     if (std::count(copy_of.begin(), copy_of.end(), -1) == n) {  // nothing repeats next door
       // Copies farther apart (docs/method.md 2.10): a box header of five columns (plain, notch edge, notch,
       // notch edge, plain) has its two plain columns 4 apart and no copies next door. They are taken as what
@@ -325,12 +345,53 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       //   * no slab between two copies is a copy of none (nothing occurs once between them).
       std::vector<std::pair<int, int>> far;
       bool decided = true;
-      for (int i = 0; i < n && decided; ++i)
-        for (int j = i + 2; j < n && decided; ++j) {
+      int plain_middle = -1;  // B of an A B A whose B repeats
+      for (int i = 0; i < n; ++i)
+        for (int j = i + 2; j < n; ++j) {
           if (!copies(i, j) || plain_alone(i)) continue;
-          decided = j > i + 2 && std::find(far.begin(), far.end(), std::pair<int, int>{i - 1, j - 1}) == far.end();
+          decided = decided && j > i + 2 &&
+                    std::find(far.begin(), far.end(), std::pair<int, int>{i - 1, j - 1}) == far.end();
           far.push_back({i, j});
         }
+      // One A B A between the model's ends and nothing else (docs/method.md 2.10, The plain one repeats):
+      // where B's difference from the A's is plain (its samples that land off an A, moved along a by the
+      // plain test's shift within B, land on the surface: a stretch of wall where the A's have a slot) and
+      // the A's difference from B is not, B repeats and each A is a part (a slot next to each end); the
+      // other way round the A's repeat and B is a part (a notch in the middle); otherwise it stays
+      // undecided. Between the ends: no whole slab outside it is a copy of an A or of B but for the end's
+      // reach into it (plain wall and a polarisation key's end are none; alternating balusters, plain, ring,
+      // plain, ring, whose first plain one holds a post's face too, are two modules of two, not three).
+      // Slab k outside is a copy of slab l but for what the model's end brings less than half a cell into it
+      // (as an end cell is read by its periodic part, 1.7): every sample of either that lands off the other
+      // lies, in k, nearer the plane of k toward the end than half a cell.
+      const auto copy_but_end = [&](int k, int l) {
+        double reach = 0;
+        for (const auto& [from, shift] : {std::pair<int, int>{k, l - k}, std::pair<int, int>{l, k - l}})
+          for (const std::size_t q : slab[std::size_t(from)]) {
+            const double t = canonical[q][a] + shift;
+            if (t < lo_cmp || t >= hi_cmp || !off_surface(q, double(shift))) continue;
+            const double in_k = from == k ? canonical[q][a] : t;
+            reach = std::max(reach, k < l ? in_k - k : k + 1 - in_k);
+          }
+        return reach < 0.5;
+      };
+      const auto spans = [&](int i, int j) {
+        for (int k = 0; k < n; ++k)
+          if ((k < i || k > j) && whole_slab(k) && !plain_alone(k) && (copy_but_end(k, i) || copy_but_end(k, i + 1)))
+            return false;
+        return true;
+      };
+      if (!decided && far.size() == 1 && far[0].second == far[0].first + 2 && spans(far[0].first, far[0].second)) {
+        const int i = far[0].first, m = i + 1;
+        const bool middle_plain = difference_plain(m, -1) && difference_plain(m, 1);
+        const bool ends_plain = difference_plain(i, 1) && difference_plain(i + 2, -1);
+        if (middle_plain && !ends_plain) {
+          plain_middle = m;
+          far.clear();
+        } else if (ends_plain && !middle_plain) {
+          decided = true;
+        }
+      }
       if (!decided) far.clear();
       for (const auto& [i, j] : far) {
         if (copy_of[std::size_t(i)] < 0) copy_of[std::size_t(i)] = j;
@@ -341,6 +402,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         for (int m = i + 1; m < j; ++m) singular_between = singular_between || copy_of[std::size_t(m)] < 0;
       if (singular_between) s.far_copies[std::size_t(a)] = true;
       else copy_of.assign(std::size_t(n), -1);
+      if (plain_middle >= 0) copy_of[std::size_t(plain_middle)] = plain_middle;  // one period of what repeats
     }
     if (std::count(copy_of.begin(), copy_of.end(), -1) == n) {  // nothing repeats
       // Whole slabs between the end planes (they are consecutive): two end slabs are the model's two ends,
@@ -348,7 +410,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       // copies, one of them inside the model, or three, leave the axis undecided.
       int whole = 0, whole_inside = 0;
       for (int i = 0; i < n; ++i)
-        if (i >= lo - 1e-9 && i + 1 <= hi + 1e-9) ++whole, whole_inside += i > 0 && i < n - 1;
+        if (whole_slab(i)) ++whole, whole_inside += i > 0 && i < n - 1;
       s.undecided[std::size_t(a)] = whole >= 3 || (whole == 2 && whole_inside > 0);
       continue;
     }
