@@ -526,25 +526,48 @@ TEST_CASE("structure: copies farther apart decide an axis only where nothing els
   }
 }
 
-TEST_CASE("structure: two whole cells inside the model that are no copies leave the axis undecided, even where an "
-          "end cell holds a whole module",
+TEST_CASE("structure: a module in the end cell, past its end plane, is compared over its whole cell",
           "[structure][samples]") {
-  // Three pins (slot, plain, slot) at a 2.54 pitch in a housing whose wall reaches 2.696 past pin 1: four cells,
-  // the last one's end plane on its inner plane, so its whole module (pin 3 and its slot) is the end, and only
-  // the modules of pins 1 and 2 are whole. They differ by the slot: which of them occurs once is not decided.
-  // Counting whole cells alone (two: "the model's two ends") this was decided, with no part and no warning,
-  // and the 5-pin result lay a pitch off the real part.
-  const Family f = make("connector", {{"pins", 3}, {"pitch", 2.54}, {"wall", 2.696}});
-  Retargeter<> r(f.sample.mesh, f.analysis);
-  REQUIRE(r.structure());
-  const CellStructure& st = *r.structure();
-  REQUIRE(st.cells[f.axis] == 4);
-  REQUIRE(f.analysis.lattice.end_low[f.axis] > 0.5);
-  REQUIRE(f.analysis.lattice.end_high[f.axis] < 0.1);
-  CHECK(st.undecided[std::size_t(f.axis)]);
-  CHECK(grown_warned(r, f.axis, "undecided axis"));
-  // Two whole cells that are the model's two ends are not undecided: the fence of 2 pickets along the offset of
-  // its two rails (its principal offset), whose lower cell holds the posts' feet and the upper one the points.
+  // Three pins (slot, plain, slot) in a housing whose wall reaches about a pitch beyond pin 1 (2.45 at 2.5,
+  // 2.696 at 2.54): four cells, the last one's end plane cut before pin 3, so pin 3 and its slot lie in the
+  // end cell and only the modules of pins 1 and 2 are whole. They differ by the slot. Counted as the model's
+  // two ends, the axis was decided with no part and no warning, and the 5-pin result lay a pitch off the real
+  // part; held undecided, it was warned and still a pitch off. The end cell lies whole within the model:
+  // compared over it, it is a copy of pin 1's, the three are A B A, and the plain pin repeats (method.md 2.10,
+  // The plain one repeats).
+  using Lengths = std::map<std::string, double>;
+  for (const Lengths& lengths : {Lengths{{"pitch", 2.54}, {"wall", 2.696}},
+                                 Lengths{{"pitch", 2.5}, {"wall", 2.45}, {"opening", 1.2}, {"slot_width", 1.0}}}) {
+    INFO("pitch " << lengths.at("pitch") << ", wall " << lengths.at("wall"));
+    const auto with = [&](int pins) {
+      Lengths p = lengths;
+      p["pins"] = pins;
+      return p;
+    };
+    const Family f = make("connector", with(3));
+    REQUIRE(f.axis >= 0);
+    Retargeter<> r(f.sample.mesh, f.analysis);
+    REQUIRE(r.structure());
+    const CellStructure& st = *r.structure();
+    REQUIRE(st.cells[f.axis] == 4);
+    REQUIRE(f.analysis.lattice.end_low[f.axis] > 0.5);
+    REQUIRE(f.analysis.lattice.end_high[f.axis] < 0.1);
+    REQUIRE(slab_of(f, 2) == 3);  // pin 3 in the end cell
+    CHECK_FALSE(st.undecided[std::size_t(f.axis)]);
+    CHECK(st.copy_of[std::size_t(f.axis)] == std::vector<int>{-1, -1, 2, -1});
+    for (const int m : {2, 4, 5, 7}) {
+      INFO("to " << m);
+      auto out = r.retarget(family_steps(f, m - 3));
+      REQUIRE(out.ok());
+      CHECK(out->report.warnings.empty());
+      check_in_place(out->mesh, families::generate("connector", with(m))->mesh);
+    }
+  }
+}
+
+TEST_CASE("structure: two whole end cells that are no copies are the model's two ends", "[structure][samples]") {
+  // Not undecided: the fence of 2 pickets along the offset of its two rails (its principal offset), whose lower
+  // cell holds the posts' feet and the upper one the points.
   const Family two = make("fence", {{"pickets", 2}});
   REQUIRE(two.analysis.principal.size() == 1);
   Retargeter<> r2(two.sample.mesh, two.analysis);

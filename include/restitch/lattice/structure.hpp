@@ -13,10 +13,11 @@
 // axis (a housing's plain wall past its last pin: copies at any shift, so no sign of the period) are not
 // taken as repeating. Where no two neighbours are copies, slabs farther apart that are, around slabs
 // that are copies of none, repeat (a box header of five columns: its two plain ones around the notch;
-// CellStructure::far_copies). Three modules A B A between the ends are decided by their difference: the
-// one whose difference from the other is plain repeats (a slot next to each end around a plain module:
-// the middle repeats). Along an axis of three cells or more where nothing repeats so (a door between
-// two windows; a key notch that reaches every column) whole periods cannot tell what occurs once: the axis is *undecided* and resized as the paper does, with a
+// CellStructure::far_copies). Three modules A B A between the ends are decided by their difference: the one whose
+// difference from the other is plain repeats (a slot next to each end around a plain module: the middle repeats), the
+// third of them compared over its whole end cell where it lies past an end plane. Along an axis of three cells or more
+// where nothing repeats so (a door between two windows; a key notch that reaches every column) whole periods cannot
+// tell what occurs once: the axis is *undecided* and resized as the paper does, with a
 // warning, from three whole slabs between the end planes, or two of which one is inside the model. Two
 // whole end slabs that are no copies are the model's two ends, which the anchored ends and the end caps
 // keep: no parts, no warning. The model's ends beyond their end planes are left out (the stitcher keeps them
@@ -408,11 +409,50 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       // Whole slabs between the end planes (they are consecutive): two end slabs are the model's two ends,
       // which the anchored ends and end caps keep (docs/method.md 2.3, 3); two whole slabs that are no
       // copies, one of them inside the model, or three, leave the axis undecided.
-      int whole = 0, whole_inside = 0;
+      int whole = 0, whole_inside = 0, first_whole = -1;
       for (int i = 0; i < n; ++i)
-        if (whole_slab(i)) ++whole, whole_inside += i > 0 && i < n - 1;
+        if (whole_slab(i)) {
+          if (first_whole < 0) first_whole = i;
+          ++whole, whole_inside += i > 0 && i < n - 1;
+        }
       s.undecided[std::size_t(a)] = whole >= 3 || (whole == 2 && whole_inside > 0);
-      continue;
+      // Two whole slabs and, past the end plane beside one of them, an end cell that lies whole within the
+      // model (docs/method.md 2.10, The plain one repeats, A module in the end cell): the end cell, compared
+      // over its whole cell, may be the third module of an A B A (a connector's last pin with its slot, past
+      // an end plane cut before it). Where it is a copy of the farther whole slab, B's difference from the
+      // A's is plain and theirs from B is not, B repeats.
+      if (whole == 2 && whole_inside > 0) {
+        const int x = first_whole, y = first_whole + 1;
+        int e = -1, b = -1, other = -1;  // the end cell, B, the whole A
+        if (y + 1 == n - 1 && hi < double(n) && m1 >= double(n) - 1e-9) e = n - 1, b = y, other = x;
+        else if (x == 1 && lo > 0 && m0 <= 1e-9) e = 0, b = x, other = y;
+        const auto in_cell = [](double t, int c) { return t >= double(c) && t < double(c + 1); };
+        // Cell `from`'s samples moved by `shift` land on the surface (every sample of the cell, end or not).
+        const auto lands_whole = [&](int from, int shift) {
+          for (std::size_t k = 0; k < points.size(); ++k)
+            if (in_cell(canonical[k][a], from) && off_surface(k, double(shift))) return false;
+          return true;
+        };
+        // As difference_plain, over the whole cell.
+        const auto difference_plain_whole = [&](int from, int shift) {
+          for (std::size_t k = 0; k < points.size(); ++k) {
+            const double t = canonical[k][a];
+            if (!in_cell(t, from) || !off_surface(k, double(shift))) continue;
+            for (const double d : {slide, -slide})
+              if (in_cell(t + d, from) && off_surface(k, d)) return false;
+          }
+          return true;
+        };
+        if (e >= 0 && lands_whole(e, other - e) && lands_whole(other, e - other)) {
+          const bool middle_plain = difference_plain_whole(b, other - b) && difference_plain_whole(b, e - b);
+          const bool ends_plain = difference_plain_whole(other, b - other) && difference_plain_whole(e, b - e);
+          if (middle_plain && !ends_plain) {
+            copy_of[std::size_t(b)] = b;  // one period of what repeats
+            s.undecided[std::size_t(a)] = false;
+          }
+        }
+      }
+      if (std::count(copy_of.begin(), copy_of.end(), -1) == n) continue;
     }
     // A slab that repeats next door is periodic. One that does not may still be a copy of a periodic one
     // farther away (a box header's plain column beside the shroud's end, whose neighbour has the notch).
