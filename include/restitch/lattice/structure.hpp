@@ -322,16 +322,17 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     // one repeats). Slab `from`'s difference from the slab `shift` away (its samples that land
     // off the surface when moved there) is plain: each such sample, moved either way along a by the slide and
     // still inside its slab, lands on the surface (a stretch of back wall where the other has a slot; not a
-    // slot's side faces, which cross a).
-    const auto difference_plain = [&](int from, int shift) {
-      for (const std::size_t k : slab[std::size_t(from)]) {
-        const double t = canonical[k][a] + shift;
-        if (t < lo_cmp || t >= hi_cmp || !off_surface(k, double(shift))) continue;
-        for (const double d : {slide, -slide}) {
-          const double u = canonical[k][a] + d;
-          if (u >= std::max(lo_cmp, double(from)) && u < std::min(hi_cmp, double(from + 1)) && off_surface(k, d))
-            return false;
-        }
+    // slot's side faces, which cross a). Over the samples compared, or with `whole_cell` over every sample of
+    // the cell, end or not (a module in the end cell).
+    const auto difference_plain = [&](int from, int shift, bool whole_cell = false) {
+      const double c0 = whole_cell ? double(from) : std::max(lo_cmp, double(from));
+      const double c1 = whole_cell ? double(from + 1) : std::min(hi_cmp, double(from + 1));
+      for (std::size_t k = 0; k < points.size(); ++k) {
+        const double t = canonical[k][a];
+        if (t < c0 || t >= c1 || (!whole_cell && (t + shift < lo_cmp || t + shift >= hi_cmp))) continue;
+        if (!off_surface(k, double(shift))) continue;
+        for (const double d : {slide, -slide})
+          if (t + d >= c0 && t + d < c1 && off_surface(k, d)) return false;
       }
       return true;
     };
@@ -426,26 +427,15 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         int e = -1, b = -1, other = -1;  // the end cell, B, the whole A
         if (y + 1 == n - 1 && hi < double(n) && m1 >= double(n) - 1e-9) e = n - 1, b = y, other = x;
         else if (x == 1 && lo > 0 && m0 <= 1e-9) e = 0, b = x, other = y;
-        const auto in_cell = [](double t, int c) { return t >= double(c) && t < double(c + 1); };
         // Cell `from`'s samples moved by `shift` land on the surface (every sample of the cell, end or not).
         const auto lands_whole = [&](int from, int shift) {
           for (std::size_t k = 0; k < points.size(); ++k)
-            if (in_cell(canonical[k][a], from) && off_surface(k, double(shift))) return false;
-          return true;
-        };
-        // As difference_plain, over the whole cell.
-        const auto difference_plain_whole = [&](int from, int shift) {
-          for (std::size_t k = 0; k < points.size(); ++k) {
-            const double t = canonical[k][a];
-            if (!in_cell(t, from) || !off_surface(k, double(shift))) continue;
-            for (const double d : {slide, -slide})
-              if (in_cell(t + d, from) && off_surface(k, d)) return false;
-          }
+            if (std::floor(canonical[k][a]) == double(from) && off_surface(k, double(shift))) return false;
           return true;
         };
         if (e >= 0 && lands_whole(e, other - e) && lands_whole(other, e - other)) {
-          const bool middle_plain = difference_plain_whole(b, other - b) && difference_plain_whole(b, e - b);
-          const bool ends_plain = difference_plain_whole(other, b - other) && difference_plain_whole(e, b - e);
+          const bool middle_plain = difference_plain(b, other - b, true) && difference_plain(b, e - b, true);
+          const bool ends_plain = difference_plain(other, b - other, true) && difference_plain(e, b - e, true);
           if (middle_plain && !ends_plain) {
             copy_of[std::size_t(b)] = b;  // one period of what repeats
             s.undecided[std::size_t(a)] = false;
