@@ -20,7 +20,7 @@
 //    at that count (bounding box and surface distance within 1e-4 of the diagonal; open boundary length; results
 //    with open edges that are no copies of the input's)
 // 8. parameters (not with --quick): the families with their lengths drawn within 0.7..1.3 of the defaults (six
-//    seeded sets), from 3, 5 and 7 modules to n - 1 and n + 2, judged as in 7; what is not exact (or warned) is printed
+//    seeded sets; --seeds FIRST..LAST for others), from 3, 5 and 7 modules to n - 1 and n + 2, judged as in 7; what is not exact (or warned) is printed
 //    with its parameters
 // 9. vertex_repeats (not with --quick): the analysis time without and with the repeats of the vertices
 //    (docs/method.md 1.14), each family at its defaults and each real model of --models DIR
@@ -650,13 +650,17 @@ void bench_counts(nlohmann::json& out) {
   }
 }
 
-// Section 8: the families away from their defaults. Per family, six parameter sets (seeds 1..6): every length
+// Section 8: the families away from their defaults. Per family, six parameter sets (seeds 1..6, or --seeds): every length
 // parameter drawn uniformly from 0.7 to 1.3 times its default (clamped to its range; counts and detail kept),
 // each generated at 3, 5 and 7 modules and resized to the size of the family at n - 1 and n + 2 modules, judged
 // as in section 7. A set the family refuses at a count (parameters that do not fit together) is skipped there.
 // Every result that is not exact, or exact and warned, is printed with its parameters, for `restitch sample`.
+unsigned seed_first = 1, seed_last = 6;  // --seeds FIRST..LAST: section 8's parameter sets
+
 void bench_parameters(nlohmann::json& out) {
-  std::printf("\n== other parameters (6 sets of lengths within 0.7..1.3 of the defaults; from 3, 5, 7 modules to n - 1, n + 2)\n");
+  std::printf("\n== other parameters (sets %u..%u of lengths within 0.7..1.3 of the defaults; from 3, 5, 7 modules to n - 1, "
+              "n + 2)\n",
+              seed_first, seed_last);
   for (const std::string& name : count_families()) {
     families::SampleInfo info;
     for (const families::SampleInfo& i : families::catalog())
@@ -665,7 +669,7 @@ void bench_parameters(nlohmann::json& out) {
     Tally tally;
     int skipped = 0;
     std::printf("%s:\n", name.c_str());
-    for (unsigned seed = 1; seed <= 6; ++seed) {
+    for (unsigned seed = seed_first; seed <= seed_last; ++seed) {
       std::mt19937 rng(seed);
       std::uniform_real_distribution<double> factor(0.7, 1.3);
       std::map<std::string, double> params;
@@ -696,7 +700,7 @@ void bench_parameters(nlohmann::json& out) {
           }
           const char c = p.axis < 0 ? 'A' : judge(*r, *p.sample, truth->mesh, tally);
           ++tally.letters[c];
-          if (c != '.') std::printf("  %c  --%s %d to %d:%s\n", c, count.c_str(), n, m, args.c_str());
+          if (c != '.') std::printf("  %c  set %u: --%s %d to %d:%s\n", c, seed, count.c_str(), n, m, args.c_str());
         }
       }
     }
@@ -814,10 +818,14 @@ int main(int argc, char** argv) {
       only = argv[++i];
     else if (!std::strcmp(argv[i], "--family") && i + 1 < argc)
       only_family = argv[++i];
+    else if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc &&
+             std::sscanf(argv[++i], "%u..%u", &seed_first, &seed_last) == 2 && seed_first >= 1 && seed_first <= seed_last)
+      continue;
     else
       return std::fprintf(stderr,
                           "usage: bench [--quick] [--json FILE] [--models DIR] [--only "
-                          "analysis|shot|comparison|scaling|synthetic|detectors|counts|parameters|vertex_repeats|long] [--family NAME]\n"),
+                          "analysis|shot|comparison|scaling|synthetic|detectors|counts|parameters|vertex_repeats|long] [--family NAME]\n"
+                          "             [--seeds FIRST..LAST (section 8's parameter sets, default 1..6)]\n"),
              2;
   }
   const auto run = [&](const char* section) { return only.empty() || only == section; };
