@@ -560,6 +560,20 @@ bool repeated_inner_part(const CellStructure& s, int a) {
   });
 }
 
+/// Why the structure along lattice axis a cannot be read on its grid phase (docs/method.md 1.7, Phase by
+/// structure): `undecided_axis` where no two slabs tell what occurs once, `nothing_repeats` where the axis
+/// has three cells or more and no slab repeats at all (a plane through a part that occurs once, a pin-1
+/// marker, leaves every cell different from every other), `read` otherwise.
+enum class Unread { read = 0, undecided_axis = 1, nothing_repeats = 2 };
+
+template <class = void>
+Unread structure_unread(const CellStructure& s, int a) {
+  if (s.undecided[std::size_t(a)]) return Unread::undecided_axis;
+  const std::vector<int>& c = s.copy_of[std::size_t(a)];
+  if (s.cells[a] >= 3 && !c.empty() && std::count(c.begin(), c.end(), -1) == int(c.size())) return Unread::nothing_repeats;
+  return Unread::read;
+}
+
 /// docs/method.md 1.12: each principal offset t checked against the structure of the model on its
 /// lattice. Where no two neighbouring cells are copies (the axis is undecided, or decided by copies farther
 /// apart only), the shortest m t, m = 2..4, at which some are, with at least two cells; otherwise the
@@ -581,7 +595,7 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
   for (int k = 0; k < a.axes.real_count; ++k) {
     if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
     const CellStructure st = cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k);
-    undecided[std::size_t(k)] = st.undecided[std::size_t(k)];  // unless a period below replaces t
+    undecided[std::size_t(k)] = int(structure_unread(st, k));  // unless a period below replaces t
     const double have = repeated_length(st, a.lattice, k);
     const Eigen::Vector3d t = a.axes.axes[std::size_t(k)];
     const double extent = a.lattice.cells[k] * t.norm();  // the model's length along t, about
@@ -719,7 +733,7 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       }
       // The refit moves every axis's planes (A changed): the axes before are not known any more.
       for (int i = 0; i < k; ++i) undecided[std::size_t(i)] = -1;
-      undecided[std::size_t(k)] = there.undecided[std::size_t(k)];
+      undecided[std::size_t(k)] = int(structure_unread(there, k));
       changed = true;
       break;
     }
@@ -864,26 +878,28 @@ Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& o
 
 /// docs/method.md 1.7, Phase by structure: along each principal axis k whose structure on the chosen phase
 /// is undecided (no two neighbouring slabs, nor two farther apart around content that occurs once, are
-/// copies: restitch/lattice/structure.hpp), the other phases at which the cut cost has a local minimum
-/// (lattice/fit.hpp, phase_minima: the middle of each gap the planes can sit in), cheapest first, at most
-/// `max_phases_by_structure`; the first on which the axis is decided with its end slabs compared whole,
-/// some slabs repeat, some part lies inside the model and none is a copy of another replaces the phase
-/// along k (refit along k alone). The cut cost is what the phase is chosen by
+/// copies: restitch/lattice/structure.hpp) or where nothing repeats at all (structure_unread), the other
+/// phases at which the cut cost has a local minimum (lattice/fit.hpp, phase_minima: the middle of each gap
+/// the planes can sit in), cheapest first, at most `max_phases_by_structure`; the first on which the axis
+/// is decided, some slabs repeat and no part inside is a copy of another replaces the phase along k (refit
+/// along k alone). For an undecided axis, with its end slabs compared whole and some part inside the model;
+/// where nothing repeated, as the retargeter reads it (end slabs over their periodic parts). The cut cost is what the phase is chosen by
 /// where the structure says nothing; where the cheapest phase cuts the content that occurs once into the
 /// cells of what repeats (a notch edge in a plain column's cell) the structure cannot be read there, and
 /// the seams on exact copies are exact at any phase (the stitcher clips, docs/method.md 3). `undecided`:
-/// per axis 1 (0) where the caller found it undecided (decided) on the lattice as it is, -1 where not known.
+/// per axis the Unread the caller found on the lattice as it is (as an int), -1 where not known.
 template <class D, class M, class Det>
 Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
                           std::unique_ptr<TriangleSurface>& surface, Analysis& a,
                           const std::array<int, 3>& undecided = {{-1, -1, -1}}) {
   if (options.max_phases_by_structure <= 0 || a.dense.size() == 0) return {};
   for (int k = 0; k < a.axes.real_count; ++k) {
-    if (a.lattice.cells[k] < 3 || undecided[std::size_t(k)] == 0) continue;  // fewer cells cannot be undecided
+    if (a.lattice.cells[k] < 3 || undecided[std::size_t(k)] == 0) continue;  // fewer cells are read as they are
     if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
-    if (undecided[std::size_t(k)] < 0 &&
-        !cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k).undecided[std::size_t(k)])
-      continue;
+    const Unread why = undecided[std::size_t(k)] >= 0
+                           ? Unread(undecided[std::size_t(k)])
+                           : structure_unread(cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k), k);
+    if (why == Unread::read) continue;
     LatticeFit from;  // the lattice as fitted, and the cost of each phase along k
     from.lattice = a.lattice, from.A_normalized = a.A_normalized, from.origin_normalized = a.origin_normalized;
     from.phase = a.phase;
@@ -917,12 +933,16 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
             // ends, which the cheapest phase refused (a 3-column box header whose notch reaches past its
             // outer pins: every column an open front, the notch's edges in the end cells, and the notch grew
             // with the pins).
-            const CellStructure st = cell_structure(mesh, a, fits[t]->lattice, 0, surface.get(), false, k);
+            // Where nothing repeated, no content was kept inside: a phase that keeps the part whole is read as
+            // the retargeter reads it, end slabs over their periodic parts (a 3-pin package whose pin-1 marker
+            // the cheapest phase cut has one whole cell, the second pin's, and its third pin in the end cell).
+            const bool whole_ends = why == Unread::undecided_axis;
+            const CellStructure st = cell_structure(mesh, a, fits[t]->lattice, 0, surface.get(), !whole_ends, k);
             const bool inner = std::any_of(st.parts.begin(), st.parts.end(), [&](const SingularPart& p) {
               return p.axis == k && p.first > 0 && p.last < st.cells[k] - 1;
             });
-            good[t] = !st.undecided[std::size_t(k)] && inner && repeated_length(st, fits[t]->lattice, k) > 0 &&
-                      !repeated_inner_part(st, k);
+            good[t] = structure_unread(st, k) == Unread::read && (inner || !whole_ends) &&
+                      repeated_length(st, fits[t]->lattice, k) > 0 && !repeated_inner_part(st, k);
           },
           [](std::size_t) { return true; });
       for (std::size_t t = 0; t < n && !taken; ++t) {

@@ -452,12 +452,45 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         for (const int j : {i - d, i + d})
           if (j >= 0 && j < n && periodic[std::size_t(j)] >= 0 && copy_of[std::size_t(i)] < 0 && copies(i, j))
             copy_of[std::size_t(i)] = j;
-    // Where a part's own content lies along a: its difference from the repeated background, in its own
-    // place. With B the repeating slab nearest to slab j of the part (the run on j's side: a rail between
-    // two runs of slats may shift one against the other), the samples of B moved onto j
-    // that land off the surface (what the part lacks: a key notch), at their moved place, and the samples
-    // of j moved onto B that land off the surface (what it has more: the notch's sides), at their own
-    // place. Their extent's middle, over the part's slabs; the slabs' middle without a repeating slab.
+    // Where a part's own content lies along a (docs/method.md 2.10, Anchors): the positions whose surface differs
+    // from the surface one period either side, over the part's slabs and one slab either side of them
+    // (a part's content can reach past its slabs: a rail as tall as the slat pitch, within the tolerance, whose
+    // bottom falls in the slab below and reads there as a copy of the top rail's bottom). What it has that
+    // neither neighbouring period has: its samples that land off the surface moved one period either way (a
+    // rail's faces, a notch's sides and its floor where the wall is a period away). What it lacks that a
+    // period has on both sides of it: a sample whose move by one period lands off the surface, at its moved
+    // place, where the move by two periods lands on it again (a missing slat between two slats). Moves
+    // that leave the compared range tell nothing, and are skipped. Where neither finds anything, the
+    // difference from the nearest repeating slab (below) places it.
+    const auto content_local = [&](int first, int last, std::vector<Eigen::Vector3d>& where) {
+      const double t0 = std::max(lo_cmp, double(first - 1)), t1 = std::min(hi_cmp, double(last + 2));
+      const auto inside = [&](double t) { return t >= lo_cmp && t < hi_cmp; };
+      double lo_t = INFINITY, hi_t = -INFINITY;
+      const auto note = [&](double t, const Eigen::Vector3d& at) {
+        lo_t = std::min(lo_t, t), hi_t = std::max(hi_t, t);
+        where.push_back(at);
+      };
+      for (std::size_t k = 0; k < points.size(); ++k) {
+        const double t = canonical[k][a];
+        if (t < t0 || t >= t1 || !inside(t + 1) || !inside(t - 1)) continue;
+        const bool up = off_surface(k, 1), down = off_surface(k, -1);
+        if (up && down) {
+          note(t, points[k]);
+          continue;
+        }
+        for (const int d : {1, -1})
+          if ((d == 1 ? up : down) && t + d >= double(first) && t + d < double(last + 1) && inside(t + 2 * d) &&
+              !off_surface(k, 2.0 * d))
+            note(t + d, points[k] + double(d) * v);
+      }
+      return std::pair<double, double>{lo_t, hi_t};
+    };
+    // The difference of the part's slabs from the repeating slab nearest to each (the run on its side: a rail
+    // between two runs of slats may shift one against the other): the samples of that slab moved onto the
+    // part that land off the surface (what the part lacks: a key notch), at their moved place, and the
+    // part's samples moved onto it that land off the surface (what it has more: the notch's sides), at their
+    // own place. Their extent's middle, over the part's slabs, where the local difference above finds
+    // nothing; the slabs' middle without a repeating slab.
     const auto content_centre = [&](int first, int last, std::vector<Eigen::Vector3d>& where) {
       const auto nearest_repeating = [&](int j) {  // the lower on a tie; -1 when none
         for (int d = 1; d < n; ++d)
@@ -481,6 +514,9 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
           note_off(background, j - background, true);
           note_off(j, background - j, false);
         }
+      // Both sets of samples are the part's content (where it is, and where what it lacks would be: the
+      // seeds of a centred part's move, restitch/retarget/centring.hpp); the local one places its centre.
+      if (const auto [l0, l1] = content_local(first, last, where); l0 <= l1) return 0.5 * (l0 + l1);
       return lo_t <= hi_t ? 0.5 * (lo_t + hi_t) : 0.5 * double(first + last + 1);
     };
     // The parts along a: the runs of slabs that do not repeat (built again below when a run out of phase
@@ -534,13 +570,13 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     // spacings) the windows are the part's slabs, no copies. The one slab that lies inside the two windows
     // is one period of the run (its copy one period on continues it), so it repeats (copy_of: itself), and
     // the part is split around it: the run grows with the others.
-    std::vector<std::size_t> order;  // the compared samples by position along a, built for the first such part
+    std::vector<std::size_t> order;  // the samples by position along a, built for the first such part
     const double step = std::max(s.spacing[a], 1e-3);
     std::vector<int> run_slabs;  // per run found, the slab inside its two windows
     for (const SingularPart& p : s.parts) {
       if (p.axis != a || p.last - p.first < 2 || (p.first > 0 && p.last < n - 1)) continue;
       if (order.empty()) {
-        for (int i = 0; i < n; ++i) order.insert(order.end(), slab[std::size_t(i)].begin(), slab[std::size_t(i)].end());
+        for (std::size_t k = 0; k < points.size(); ++k) order.push_back(k);
         std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
           return canonical[x][a] != canonical[y][a] ? canonical[x][a] < canonical[y][a] : x < y;
         });
@@ -557,11 +593,16 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
           if (off_surface(order[i], shift)) return false;
         return i0 < i1;
       };
-      const double low = std::max(double(p.first), lo_cmp), high = std::min(double(p.last + 1), hi_cmp);
+      // Up to the model's end, past an end plane: that plane is where the end cap is cut most cheaply, which
+      // may lie below where the run ends (a run of two whose last slat's cell holds the top rail's bottom).
+      const double low = std::max(double(p.first), m0), high = std::min(double(p.last + 1), m1);
       for (double w = low - step; w + 2 - step <= high; w += step) {
         const double phase = w - std::floor(w);
-        if (std::min(phase, 1 - phase) < 2 * step || !land(w, 1) || !land(w + 1, -1) || land(w, slide)) continue;
-        run_slabs.push_back(int(std::ceil(w)));  // inside the part: w lies 2 spacings or more off a cell plane
+        const int inner = int(std::ceil(w));  // the slab inside the two windows: an end slab is the end
+        if (std::min(phase, 1 - phase) < 2 * step || inner <= 0 || inner >= n - 1 || !land(w, 1) ||
+            !land(w + 1, -1) || land(w, slide))
+          continue;
+        run_slabs.push_back(inner);  // inside the part: w lies 2 spacings or more off a cell plane
         break;
       }
     }
