@@ -72,6 +72,16 @@ void check_in_place(const Mesh& out, const Mesh& truth) {
   CHECK(test::open_boundary_length(out) <= open + 1e-6 * (1 + open));
 }
 
+// `r`, the family `name` generated at n with `params`, resized along its repeat to m is the family at m, in place.
+void check_resized_to(Retargeter<>& r, const Family& f, const std::string& name, std::map<std::string, double> params,
+                      int n, int m) {
+  INFO("to " << m);
+  auto out = r.retarget(family_steps(f, m - n));
+  REQUIRE(out.ok());
+  params[families::generate(name)->count_parameters[0]] = m;
+  check_in_place(out->mesh, families::generate(name, params)->mesh);
+}
+
 // Whether `r` grown by two steps along lattice axis a is warned with `check`.
 bool grown_warned(Retargeter<>& r, int a, const std::string& check) {
   Eigen::Array3i steps = Eigen::Array3i::Zero();
@@ -311,14 +321,7 @@ TEST_CASE("structure: a phase that cuts a part so that nothing repeats is replac
     const SingularPart* first = r.structure()->part_of(f.axis, 0);
     REQUIRE(first);
     CHECK(first->anchor == PartAnchor::low);
-    for (const int m : {2, 4, 5}) {
-      INFO("to " << m);
-      auto out = r.retarget(family_steps(f, m - 3));
-      REQUIRE(out.ok());
-      std::map<std::string, double> to = at;
-      to["pins"] = m;
-      check_in_place(out->mesh, families::generate("dip", to)->mesh);
-    }
+    for (const int m : {2, 4, 5}) check_resized_to(r, f, "dip", at, 3, m);
   }
 }
 
@@ -346,14 +349,7 @@ TEST_CASE("structure: a part's centre is where the model differs from a period e
     REQUIRE(rail);
     CHECK(rail->anchor == PartAnchor::centre);
     CHECK(std::abs(rail->offset - 0.5) <= rail->precision);  // ceil(n / 2) slats below: half a pitch above
-    for (const int m : {n - 1, n + 2}) {
-      INFO("to " << m);
-      auto out = r.retarget(family_steps(f, m - n));
-      REQUIRE(out.ok());
-      std::map<std::string, double> to = set;
-      to["slats"] = m;
-      check_in_place(out->mesh, families::generate("shutter", to)->mesh);
-    }
+    for (const int m : {n - 1, n + 2}) check_resized_to(r, f, "shutter", set, n, m);
   }
 }
 
