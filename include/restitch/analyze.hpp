@@ -570,7 +570,8 @@ template <class = void>
 Unread structure_unread(const CellStructure& s, int a) {
   if (s.undecided[std::size_t(a)]) return Unread::undecided_axis;
   const std::vector<int>& c = s.copy_of[std::size_t(a)];
-  if (s.cells[a] >= 3 && !c.empty() && std::count(c.begin(), c.end(), -1) == int(c.size())) return Unread::nothing_repeats;
+  if (s.cells[a] >= 3 && !c.empty() && std::count(c.begin(), c.end(), -1) == int(c.size()))
+    return Unread::nothing_repeats;
   return Unread::read;
 }
 
@@ -588,14 +589,14 @@ Unread structure_unread(const CellStructure& s, int a) {
 template <class D, class M, class Det>
 Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
                       const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices,
-                      std::unique_ptr<TriangleSurface>& surface, Analysis& a, std::array<int, 3>& undecided) {
+                      std::unique_ptr<TriangleSurface>& surface, Analysis& a, std::array<int, 3>& unread) {
   if (!options.verify_periods || !vertices || a.axes.real_count == 0 || a.dense.size() == 0) return {};
   Eigen::Matrix<double, Eigen::Dynamic, 3> shaping(0, 3);  // shape_vertices, once an axis needs them
   bool changed = false;
   for (int k = 0; k < a.axes.real_count; ++k) {
     if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
     const CellStructure st = cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k);
-    undecided[std::size_t(k)] = int(structure_unread(st, k));  // unless a period below replaces t
+    unread[std::size_t(k)] = int(structure_unread(st, k));  // unless a period below replaces t
     const double have = repeated_length(st, a.lattice, k);
     const Eigen::Vector3d t = a.axes.axes[std::size_t(k)];
     const double extent = a.lattice.cells[k] * t.norm();  // the model's length along t, about
@@ -732,8 +733,8 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
         d.divisor = f >= 0 ? d.divisor : d.divisor * -f;
       }
       // The refit moves every axis's planes (A changed): the axes before are not known any more.
-      for (int i = 0; i < k; ++i) undecided[std::size_t(i)] = -1;
-      undecided[std::size_t(k)] = int(structure_unread(there, k));
+      for (int i = 0; i < k; ++i) unread[std::size_t(i)] = -1;
+      unread[std::size_t(k)] = int(structure_unread(there, k));
       changed = true;
       break;
     }
@@ -883,21 +884,22 @@ Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& o
 /// the planes can sit in), cheapest first, at most `max_phases_by_structure`; the first on which the axis
 /// is decided, some slabs repeat and no part inside is a copy of another replaces the phase along k (refit
 /// along k alone). For an undecided axis, with its end slabs compared whole and some part inside the model;
-/// where nothing repeated, as the retargeter reads it (end slabs over their periodic parts). The cut cost is what the phase is chosen by
-/// where the structure says nothing; where the cheapest phase cuts the content that occurs once into the
-/// cells of what repeats (a notch edge in a plain column's cell) the structure cannot be read there, and
-/// the seams on exact copies are exact at any phase (the stitcher clips, docs/method.md 3). `undecided`:
-/// per axis the Unread the caller found on the lattice as it is (as an int), -1 where not known.
+/// where nothing repeated, as the retargeter reads it (end slabs over their periodic parts). The cut cost is
+/// what the phase is chosen by where the structure says nothing; where the cheapest phase cuts the content
+/// that occurs once into the cells of what repeats (a notch edge in a plain column's cell) the structure
+/// cannot be read there, and the seams on exact copies are exact at any phase (the stitcher clips,
+/// docs/method.md 3). `unread`: per axis the Unread the caller found on the lattice as it is (as an int), -1
+/// where not known.
 template <class D, class M, class Det>
 Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
                           std::unique_ptr<TriangleSurface>& surface, Analysis& a,
-                          const std::array<int, 3>& undecided = {{-1, -1, -1}}) {
+                          const std::array<int, 3>& unread = {{-1, -1, -1}}) {
   if (options.max_phases_by_structure <= 0 || a.dense.size() == 0) return {};
   for (int k = 0; k < a.axes.real_count; ++k) {
-    if (a.lattice.cells[k] < 3 || undecided[std::size_t(k)] == 0) continue;  // fewer cells are read as they are
+    if (a.lattice.cells[k] < 3 || unread[std::size_t(k)] == 0) continue;  // fewer cells are read as they are
     if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
-    const Unread why = undecided[std::size_t(k)] >= 0
-                           ? Unread(undecided[std::size_t(k)])
+    const Unread why = unread[std::size_t(k)] >= 0
+                           ? Unread(unread[std::size_t(k)])
                            : structure_unread(cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k), k);
     if (why == Unread::read) continue;
     LatticeFit from;  // the lattice as fitted, and the cost of each phase along k
@@ -968,9 +970,9 @@ Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>&
   RESTITCH_TRY(find_short_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, a));
   RESTITCH_TRY(select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, a));
   std::unique_ptr<TriangleSurface> surface;  // the mesh's triangles for the structures, built once needed
-  std::array<int, 3> undecided{{-1, -1, -1}};  // per axis, as verify_periods found it
-  RESTITCH_TRY(verify_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a, undecided));
-  RESTITCH_TRY(phase_by_structure(mesh, options, surface, a, undecided));
+  std::array<int, 3> unread{{-1, -1, -1}};  // per axis, as verify_periods found it (Unread)
+  RESTITCH_TRY(verify_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a, unread));
+  RESTITCH_TRY(phase_by_structure(mesh, options, surface, a, unread));
   return find_vertex_repeats(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a);
 }
 

@@ -30,7 +30,7 @@
 // modeller places on purpose. A slab that does not repeat holds content that occurs once: consecutive
 // such slabs form a *part*. A part is anchored
 //   * to the low end when it holds the first slab, or its centre (the middle of its own content: where
-//     it differs from the nearest repeating slab) lies nearer the low end of the model than the high end
+//     the model differs from itself a period either side) lies nearer the low end of the model than the high end
 //     by more than half a period;
 //   * to the high end likewise;
 //   * to the centre otherwise (its centre within half a period of the model's centre, plus one sample
@@ -45,8 +45,8 @@
 // test), a test that stops at its first sample off the surface per other slab a slab that does not
 // repeat next door is compared with (every pair of slabs where none does), and, in an end part of three
 // slabs or more, per phase one sample spacing apart, three such tests on windows of one period (a run of
-// the repeat out of phase inside it, whose middle slab then repeats: the part is split around it).
-// Once per Retargeter.
+// the repeat out of phase inside it, whose middle slab then repeats: the part is split around it), and,
+// per part, up to three per sample of its slabs and their two neighbours (its centre). Once per Retargeter.
 #pragma once
 
 #include <Eigen/Core>
