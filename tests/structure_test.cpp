@@ -803,6 +803,44 @@ TEST_CASE("analysis: two copies that pair vertex for vertex are a principal offs
   }
 }
 
+// A pair candidate is a detail of a larger whole as far as its pattern test knows, and a size asked along it is
+// warned "pair" (docs/method.md 2.11). A 3-column facade whose ends hold most of it fails the pattern test at
+// twice the bay (its columns' repeat is a pair candidate, which a size along them promotes), but its structure
+// finds three slabs that are copies: no pair, and the result, the family at that count, is not warned.
+// Lengths drawn by `bench --only parameters` (set 37).
+TEST_CASE("structure: a promoted pair candidate along which three slabs are copies is no pair, and not warned",
+          "[structure][samples]") {
+  std::map<std::string, double> at{
+      {"bay_width", 2.35061},  {"floor_height", 3.24624}, {"window_width", 1.61531}, {"window_height", 1.41729},
+      {"sill_height", 1.09342}, {"wall_thickness", 0.222049}, {"frame_width", 0.0859836},
+      {"frame_depth", 0.0646712}, {"glass_recess", 0.077735}, {"margin", 0.883506}, {"plinth_height", 0.83542},
+      {"parapet_height", 0.942369}, {"shear", 0}, {"columns", 3}};
+  Family f = make("facade", at);
+  REQUIRE(f.axis < 0);  // no principal offset along the columns: a candidate
+  std::array<bool, 3> along{{false, false, false}};
+  along[std::size_t(world_axis_of(f.sample.generators[0]))] = true;
+  const std::vector<int> found = f.analysis.candidates_for_axes(along);
+  REQUIRE(found.size() == 1);
+  const RepeatCandidate& c = f.analysis.candidates[std::size_t(found[0])];
+  CHECK(c.reason == "pair");
+  REQUIRE(promote_offsets(f.sample.mesh, AnalysisOptions<>{}, {f.analysis.model_units(c)}, f.analysis).ok());
+  for (int b = 0; b < 3; ++b)
+    if (!f.analysis.lattice.dummy[b] && std::abs(f.analysis.lattice.A.col(b).normalized().dot(
+                                            f.sample.generators[0].normalized())) > std::cos(M_PI / 180))
+      f.axis = b;
+  REQUIRE(f.axis >= 0);
+  Retargeter<> r(f.sample.mesh, f.analysis);
+  REQUIRE(r.structure());
+  const std::vector<int>& copy_of = r.structure()->copy_of[std::size_t(f.axis)];
+  CHECK(std::count_if(copy_of.begin(), copy_of.end(), [](int i) { return i >= 0; }) >= 3);
+  for (const int m : {2, 5}) {
+    check_resized_to(r, f, "facade", at, 3, m);
+    auto out = r.retarget(family_steps(f, m - 3));
+    REQUIRE(out.ok());
+    for (const ResultWarning& w : out->report.warnings) CHECK(w.check != "pair");
+  }
+}
+
 TEST_CASE("analysis: a radiator whose fin pitch drifts slowly has its mean pitch as period, not a multiple",
           "[structure][samples][slow]") {
   // Section i at pitch (i + drift i (i - 1) / (2 (n - 1))): no two sections are exact copies, the mean pitch

@@ -98,12 +98,17 @@ Status plan_request(const LabelSpace& space, const Analysis& analysis, const Lat
   // A repeat of two copies that make up less than half of the model (a pair candidate, promoted on request:
   // docs/method.md 1.10, 1.13) is a detail of a larger whole: what each copy holds is repeated with it and
   // the rest is kept at the ends, which the model may not mean (a 2-column box header's key notch, whose
-  // edges lie in the ends, widens with the pins).
+  // edges lie in the ends, widens with the pins). Unless the structure finds three slabs or more along the
+  // axis that are copies (docs/method.md 2.11): then the repeat is no pair, whatever its pattern test said
+  // (a 3-column facade whose ends hold most of it).
   for (int a = 0; a < analysis.axes.real_count; ++a) {
     const int i = analysis.axes.source[std::size_t(a)];
     if (steps[a] == 0 || i < 0 || i >= int(analysis.dominant.size())) continue;
     const DominantOffset& d = analysis.dominant[std::size_t(i)];
-    if (d.promoted && !d.significant && d.is_pair())
+    int copies = 0;
+    if (structure)
+      for (const int c : structure->copy_of[std::size_t(a)]) copies += c >= 0;
+    if (d.promoted && !d.significant && d.is_pair() && copies < 3)
       rep.warnings.push_back({"pair", "the repeat along axis " + std::to_string(a + 1) +
                                           " is two copies that make up less than half of the model (a candidate, "
                                           "resized along on request): what each copy holds is repeated with it and "
