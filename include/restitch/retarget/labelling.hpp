@@ -66,7 +66,8 @@ Status plan_parts(const CellStructure* structure, const Eigen::Array3i& k, Retar
 
 /// Checks lattice `steps` (one per axis of `grid`, the label grid of `space`) and fills
 /// rep.grid_steps and rep.cells_out (and the parts, plan_parts; a warning "pair" for a resized axis whose
-/// repeat is a pair candidate promoted on request): refused when the model has no repeat,
+/// repeat is a pair candidate promoted on request, unless `structure` finds three slabs or more along it that
+/// are copies): refused when the model has no repeat,
 /// when an axis would shrink below one cell or to one cell that cannot hold both ends, when the parts
 /// that occur once do not allow it (plan_parts), and when nodes x labels exceed options.max_problem_size
 /// (too_large, naming the option).
