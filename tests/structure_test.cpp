@@ -22,17 +22,23 @@ struct Family {
   int axis = -1;  // the lattice axis along the generator
 };
 
+// The lattice axis of `a` along the family's generator 0, or -1.
+int axis_along(const Analysis& a, const families::SampleModel& s) {
+  int axis = -1;
+  for (int b = 0; b < 3; ++b)
+    if (!a.lattice.dummy[b] &&
+        std::abs(a.lattice.A.col(b).normalized().dot(s.generators[0].normalized())) > std::cos(M_PI / 180))
+      axis = b;
+  return axis;
+}
+
 Family make(const std::string& name, const std::map<std::string, double>& params) {
   auto s = families::generate(name, params);
   REQUIRE(s.ok());
   auto a = analyze(s->mesh);
   REQUIRE(a.ok());
   Family f{std::move(*s), std::move(*a), -1};
-  const Eigen::Vector3d g = f.sample.generators[0];
-  for (int b = 0; b < 3; ++b)
-    if (!f.analysis.lattice.dummy[b] &&
-        std::abs(f.analysis.lattice.A.col(b).normalized().dot(g.normalized())) > std::cos(M_PI / 180))
-      f.axis = b;
+  f.axis = axis_along(f.analysis, f.sample);
   return f;
 }
 
@@ -824,10 +830,7 @@ TEST_CASE("structure: a promoted pair candidate along which three slabs are copi
   const RepeatCandidate& c = f.analysis.candidates[std::size_t(found[0])];
   CHECK(c.reason == "pair");
   REQUIRE(promote_offsets(f.sample.mesh, AnalysisOptions<>{}, {f.analysis.model_units(c)}, f.analysis).ok());
-  for (int b = 0; b < 3; ++b)
-    if (!f.analysis.lattice.dummy[b] && std::abs(f.analysis.lattice.A.col(b).normalized().dot(
-                                            f.sample.generators[0].normalized())) > std::cos(M_PI / 180))
-      f.axis = b;
+  f.axis = axis_along(f.analysis, f.sample);
   REQUIRE(f.axis >= 0);
   Retargeter<> r(f.sample.mesh, f.analysis);
   REQUIRE(r.structure());
