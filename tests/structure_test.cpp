@@ -42,6 +42,19 @@ Family make(const std::string& name, const std::map<std::string, double>& params
   return f;
 }
 
+// Promotes the one candidate along the family's generator (as --size does, method.md 1.10) and finds the
+// lattice axis along it; returns the candidate's reason.
+std::string promote_along(Family& f) {
+  std::array<bool, 3> along{{false, false, false}};
+  along[std::size_t(world_axis_of(f.sample.generators[0]))] = true;
+  const std::vector<int> found = f.analysis.candidates_for_axes(along);
+  REQUIRE(found.size() == 1);
+  const RepeatCandidate& c = f.analysis.candidates[std::size_t(found[0])];
+  REQUIRE(promote_offsets(f.sample.mesh, AnalysisOptions<>{}, {f.analysis.model_units(c)}, f.analysis).ok());
+  f.axis = axis_along(f.analysis, f.sample);
+  return c.reason;
+}
+
 // The lattice slab along axis a holding the middle of module `block` of the family's generator 0 (-1: the
 // start cap, modules: the end cap).
 int slab_of(const Family& f, int block) {
@@ -823,14 +836,7 @@ TEST_CASE("structure: a promoted pair candidate along which three slabs are copi
       {"parapet_height", 0.942369}, {"shear", 0}, {"columns", 3}};
   Family f = make("facade", at);
   REQUIRE(f.axis < 0);  // no principal offset along the columns: a candidate
-  std::array<bool, 3> along{{false, false, false}};
-  along[std::size_t(world_axis_of(f.sample.generators[0]))] = true;
-  const std::vector<int> found = f.analysis.candidates_for_axes(along);
-  REQUIRE(found.size() == 1);
-  const RepeatCandidate& c = f.analysis.candidates[std::size_t(found[0])];
-  CHECK(c.reason == "pair");
-  REQUIRE(promote_offsets(f.sample.mesh, AnalysisOptions<>{}, {f.analysis.model_units(c)}, f.analysis).ok());
-  f.axis = axis_along(f.analysis, f.sample);
+  CHECK(promote_along(f) == "pair");
   REQUIRE(f.axis >= 0);
   Retargeter<> r(f.sample.mesh, f.analysis);
   REQUIRE(r.structure());
@@ -842,6 +848,63 @@ TEST_CASE("structure: a promoted pair candidate along which three slabs are copi
     REQUIRE(out.ok());
     for (const ResultWarning& w : out->report.warnings) CHECK(w.check != "pair");
   }
+}
+
+TEST_CASE("structure: copies read through an end only, beside whole cells that differ, around a gap both ends share, are warned",
+          "[structure][samples]") {
+  // A 3-column box header whose key notch (2.27 pitches) reaches every column, on a grid phase where the low end
+  // plane falls late in the first column: that end cell, compared over its periodic part (the notch's floor and
+  // pin 1, which matches its neighbour by construction), is a copy of pin 2's cell, and the two whole cells are
+  // no copies. The front wall at both ends is absent all along that run: the notch is read as what repeats, and
+  // a grow widens it. Warned `short repeat`. At 5 columns two whole plain columns are copies: exact, not warned.
+  std::map<std::string, double> at{{"pitch", 2.23331},      {"shroud_end", 3.78767}, {"width", 8.5957},
+                                   {"height", 10.7923},     {"base", 2.09999},       {"wall", 0.643593},
+                                   {"notch_width", 5.06486}, {"pin_size", 0.549977}, {"pin_above", 5.14897},
+                                   {"pin_below", 2.37068},  {"columns", 3}};
+  const auto warned = [](const RetargetReport& r) {
+    return std::any_of(r.warnings.begin(), r.warnings.end(), [](const ResultWarning& w) { return w.check == "short repeat"; });
+  };
+  const Family three = make("box_header", at);
+  REQUIRE(three.axis >= 0);
+  Retargeter<> r3(three.sample.mesh, three.analysis);
+  REQUIRE(r3.structure());
+  CHECK(r3.structure()->end_read[std::size_t(three.axis)]);
+  CHECK_FALSE(r3.structure()->undecided[std::size_t(three.axis)]);
+  for (const int m : {2, 5}) {
+    INFO("3 columns to " << m);
+    auto out = r3.retarget(family_steps(three, m - 3));
+    REQUIRE(out.ok());
+    CHECK(warned(out->report));
+    at["columns"] = m;  // and the result is indeed not the header at m columns
+    const Mesh truth = families::generate("box_header", at)->mesh;
+    const double size = bounding_box(truth).size().norm();
+    CHECK(test::symmetric_surface_distance(out->mesh, truth, 0.004 * size) > 0.01 * size);
+  }
+  // Not read through an end, and grown from n by 2 to the family at n + 2, not warned.
+  const auto plain = [&](const Family& f, const std::string& name, const std::map<std::string, double>& params, int n) {
+    REQUIRE(f.axis >= 0);
+    Retargeter<> r(f.sample.mesh, f.analysis);
+    REQUIRE(r.structure());
+    CHECK_FALSE(r.structure()->end_read[std::size_t(f.axis)]);
+    auto grown = r.retarget(family_steps(f, 2));
+    REQUIRE(grown.ok());
+    CHECK_FALSE(warned(grown->report));
+    check_resized_to(r, f, name, params, n, n + 2);
+  };
+  at["columns"] = 5;
+  plain(make("box_header", at), "box_header", at, 5);
+  // Two short drawers over a tall one: their copies are read through the top's end cell too, beside three whole
+  // cells that differ, but what the run lacks of the fronts at both ends is the narrow gap between two drawer
+  // fronts, not a stretch the length of the run.
+  const Family cabinet = make("cabinet", {{"drawers", 2}});
+  REQUIRE(cabinet.axis >= 0);
+  CHECK(cabinet.analysis.lattice.end_high[cabinet.axis] > 0);  // the top's end plane inside its cell
+  plain(cabinet, "cabinet", {}, 2);
+  // Two pickets between two posts: the posts' faces are missing all along the run of pickets, but the one whole
+  // cell between the end planes is no more than the repeat read through the ends holds.
+  Family fence = make("fence", {{"pickets", 2}});
+  if (fence.axis < 0) promote_along(fence);  // found from the vertices, a candidate (method.md 1.14)
+  plain(fence, "fence", {}, 2);
 }
 
 TEST_CASE("analysis: a radiator whose fin pitch drifts slowly has its mean pitch as period, not a multiple",

@@ -25,7 +25,9 @@
 // periodic part (what repeats its neighbour, measured on the surface) is at least half its cell is
 // compared over that part instead: its end plane is where the cap is cut most cheaply, which may lie
 // far below where the end's own content begins (two short drawers over a tall one, the top in the
-// upper drawer's cell); the end still occupies its output end cell (parts_fit). Tolerance: 1e-3 of the bounding-box
+// upper drawer's cell); the end still occupies its output end cell (parts_fit). Copies found only so, around a
+// surface both sides of the run share and the run lacks all along (a key notch that reaches every column), are
+// kept but marked (CellStructure::end_read): the run may be a gap in one part. Tolerance: 1e-3 of the bounding-box
 // diagonal, 15 times the coarsest copies the weld closes (6.4e-5, docs/method.md 3) and below any part a
 // modeller places on purpose. A slab that does not repeat holds content that occurs once: consecutive
 // such slabs form a *part*. A part is anchored
@@ -46,7 +48,9 @@
 // repeat next door is compared with (every pair of slabs where none does), and, in an end part of three
 // slabs or more, per phase one sample spacing apart, three such tests on windows of one period (a run of
 // the repeat out of phase inside it, whose middle slab then repeats: the part is split around it), and,
-// per part, up to three per sample of its slabs and their two neighbours (its centre). Once per Retargeter.
+// per part, up to three per sample of its slabs and their two neighbours (its centre); along an axis read
+// through an end only, per sample beside the run on a surface along it, one per spacing until one lands on
+// the surface (most stop at the first). Once per Retargeter.
 #pragma once
 
 #include <Eigen/Core>
@@ -102,6 +106,11 @@ struct CellStructure {
   /// Per axis: no two neighbouring slabs are copies, but slabs farther apart are, around content that
   /// occurs once, and they were taken as what repeats (docs/method.md 2.10).
   std::array<bool, 3> far_copies{{false, false, false}};
+  /// Per axis: the slabs found copies all hold an end slab compared over its periodic part, which matches
+  /// its neighbour by construction, and both sides of the run of repeating slabs have a surface it lacks
+  /// all along: the run may be a gap in one part, not a repeat (docs/method.md 2.10, Copies read through an
+  /// end; warned "short repeat").
+  std::array<bool, 3> end_read{{false, false, false}};
   std::vector<SingularPart> parts;  ///< by axis, then index
   Eigen::Array3i cells = Eigen::Array3i::Ones();
   /// Per axis: the model's extent in canonical coordinates (its samples' lowest and highest).
@@ -195,12 +204,15 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
   if (!(s.tolerance > 0)) return s;
   const Eigen::Matrix3d Ainv = grid.A.inverse();
   const MatrixX3f& P = analysis.dense.points;
-  std::vector<Eigen::Vector3d> points, canonical;
+  const MatrixX3f& N = analysis.dense.normals;  // a uniform scale: the same directions in model units
+  std::vector<Eigen::Vector3d> points, canonical, normals;
   for (Eigen::Index i = 0; i < P.rows(); ++i) {
     const Eigen::Vector3d p = analysis.normalization.to_model(P.row(i).template cast<double>().transpose());
     if (!p.allFinite()) continue;
     points.push_back(p);
     canonical.push_back(Ainv * (p - grid.origin));
+    normals.push_back(N.rows() == P.rows() ? Eigen::Vector3d(N.row(i).template cast<double>().transpose())
+                                           : Eigen::Vector3d::Zero());
   }
   // The sample spacing (model units): how closely a part's centre is measured.
   const double spacing = detail::median_nearest_distance(P) / (analysis.normalization.scale > 0 ? analysis.normalization.scale : 1);
@@ -608,6 +620,41 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     }
     for (const int i : run_slabs) copy_of[std::size_t(i)] = i;
     if (!run_slabs.empty()) find_parts();
+    // Copies read through an end (docs/method.md 2.10): every two slabs found copies hold an end slab compared
+    // over its periodic part, which matches its neighbour by construction, so that, those aside, the whole
+    // slabs between the end planes are as many as would leave the axis undecided (three, or two of which one is
+    // not an end slab) and none is a copy of another; and the model's two sides of the run of repeating slabs
+    // share a surface the run lacks all along: a sample on one side, on a surface along a (a wall's face, not
+    // an end's), moved to every place inside the run one sample spacing apart, lands off the surface, and
+    // moved to some place on the other side lands on it (a shroud's front wall at both ends, and the notch
+    // between them all along the run; not the narrow gap between two drawer fronts, which a move by part of a
+    // period puts on a front). The run may then be a gap in one part, not a repeat.
+    const auto partial = [&](int i) { return (i == 0 && low_partial) || (i == n - 1 && high_partial); };
+    bool through_end = false, whole_copies = false;
+    int r0 = n, r1 = -1, whole = 0, whole_inside = 0;  // the run of repeating slabs; the whole slabs
+    for (int i = 0; i < n; ++i) {
+      const int j = copy_of[std::size_t(i)];
+      if (j >= 0 && j != i) (partial(i) || partial(j) ? through_end : whole_copies) = true;
+      if (j >= 0) r0 = std::min(r0, i), r1 = std::max(r1, i + 1);
+      if (whole_slab(i)) ++whole, whole_inside += i > 0 && i < n - 1;
+    }
+    if (through_end && !whole_copies && (whole >= 3 || (whole == 2 && whole_inside > 0))) {
+      const double t0 = std::max(double(r0), lo_cmp), t1 = std::min(double(r1), hi_cmp);  // the run's range
+      const Eigen::Vector3d along = v.normalized();
+      const double step = std::max(s.spacing[a], 1e-3);
+      const auto shared_lack = [&](std::size_t k) {
+        const double t = canonical[k][a];
+        if (std::abs(normals[k].dot(along)) > 0.5 || (t >= t0 && t < t1)) return false;  // along a: within 60 degrees
+        for (double u = t0 + 0.5 * step; u < t1; u += step)
+          if (!off_surface(k, u - t)) return false;
+        const double o0 = t < t0 ? t1 : m0, o1 = t < t0 ? m1 : t0;  // the other side
+        for (double u = o0 + 0.5 * step; u < o1; u += step)
+          if (!off_surface(k, u - t)) return true;
+        return false;
+      };
+      for (std::size_t k = 0; k < points.size() && !s.end_read[std::size_t(a)]; ++k)
+        s.end_read[std::size_t(a)] = shared_lack(k);
+    }
   }
   return s;
 }

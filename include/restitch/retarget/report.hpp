@@ -43,11 +43,16 @@ struct PartReport {
 };
 
 /// Something in a result a modeller would look at: the check that found it and a sentence. Checks:
-/// "undecided axis", "part off centre" and "pair" (known when the request is planned,
+/// "undecided axis", "short repeat", "part off centre" and "pair" (known when the request is planned,
 /// restitch/retarget/labelling.hpp), "open seam", "part count", "size", "floating piece" and "side by side" (the result check, restitch/retarget/check.hpp).
 struct ResultWarning {
   std::string check;
   std::string message;
+  /// Known when the request is planned (what whole periods cannot do, or a reading that may be wrong),
+  /// rather than found in the result by its check.
+  bool planned() const {
+    return check == "undecided axis" || check == "short repeat" || check == "part off centre" || check == "pair";
+  }
 };
 
 struct RetargetReport {
