@@ -28,8 +28,9 @@ namespace restitch {
 /// The parts that occur once (`structure`, null for none; docs/method.md 2.10) in a resize by grid steps k:
 /// rep.parts gets each part along a resized axis with the shift that keeps it, rep.warnings a sentence for
 /// a centred part the resize puts farther off the centre than it was (half a period), for an undecided
-/// axis (CellStructure::undecided) and for one read through an end around a gap (CellStructure::end_read). Refused (invalid_argument): a shrink whose parts would not fit apart
-/// (parts_fit), saying how many steps can be removed.
+/// axis (CellStructure::undecided) and for one read through an end around a gap (CellStructure::end_read).
+/// Refused (invalid_argument): a shrink whose parts would not fit apart (parts_fit), saying how many steps
+/// can be removed.
 template <class = void>
 Status plan_parts(const CellStructure* structure, const Eigen::Array3i& k, RetargetReport& rep) {
   if (!structure) return {};
