@@ -644,7 +644,8 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       const double step = std::max(s.spacing[a], 1e-3);
       const auto shared_lack = [&](std::size_t k) {
         const double t = canonical[k][a];
-        if (std::abs(normals[k].dot(along)) > 0.5 || (t >= t0 && t < t1)) return false;  // along a: within 60 degrees
+        // Along a: the normal at least 60 degrees from it (not an end's face, nor a chamfer's at 45 degrees).
+        if (std::abs(normals[k].dot(along)) > 0.5 || (t >= t0 && t < t1)) return false;
         for (double u = t0 + 0.5 * step; u < t1; u += step)
           if (!off_surface(k, u - t)) return false;
         const double o0 = t < t0 ? t1 : m0, o1 = t < t0 ? m1 : t0;  // the other side
