@@ -49,7 +49,8 @@ std::string promote_along(Family& f) {
   along[std::size_t(world_axis_of(f.sample.generators[0]))] = true;
   const std::vector<int> found = f.analysis.candidates_for_axes(along);
   REQUIRE(found.size() == 1);
-  const RepeatCandidate& c = f.analysis.candidates[std::size_t(found[0])];
+  // Copied: promoting replaces the analysis, candidates and all.
+  const RepeatCandidate c = f.analysis.candidates[std::size_t(found[0])];
   REQUIRE(promote_offsets(f.sample.mesh, AnalysisOptions<>{}, {f.analysis.model_units(c)}, f.analysis).ok());
   f.axis = axis_along(f.analysis, f.sample);
   return c.reason;
