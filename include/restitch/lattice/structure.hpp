@@ -330,6 +330,22 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         copy_of[std::size_t(i + 1)] = i;
       }
     const auto whole_slab = [&](int i) { return i >= lo - 1e-9 && i + 1 <= hi + 1e-9; };  // between the end planes
+    // Whole slabs that are no copies leave the axis undecided when they are three, or two of which one is
+    // inside the model: two end slabs are the model's two ends, which the anchored ends and end caps keep
+    // (docs/method.md 2.3, 3). `first`: the first whole slab (they are consecutive), -1 for none.
+    struct WholeSlabs {
+      int count = 0, inside = 0, first = -1;
+      bool undecided() const { return count >= 3 || (count == 2 && inside > 0); }
+    };
+    const auto whole_slabs = [&] {
+      WholeSlabs w;
+      for (int i = 0; i < n; ++i)
+        if (whole_slab(i)) {
+          if (w.first < 0) w.first = i;
+          ++w.count, w.inside += i > 0 && i < n - 1;
+        }
+      return w;
+    };
     // What tells three modules A B A apart where nothing repeats next door (docs/method.md 2.10, The plain
     // one repeats). Slab `from`'s difference from the slab `shift` away (its samples that land
     // off the surface when moved there) is plain: each such sample, moved either way along a by the slide and
@@ -419,23 +435,15 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       if (plain_middle >= 0) copy_of[std::size_t(plain_middle)] = plain_middle;  // one period of what repeats
     }
     if (std::count(copy_of.begin(), copy_of.end(), -1) == n) {  // nothing repeats
-      // Whole slabs between the end planes (they are consecutive): two end slabs are the model's two ends,
-      // which the anchored ends and end caps keep (docs/method.md 2.3, 3); two whole slabs that are no
-      // copies, one of them inside the model, or three, leave the axis undecided.
-      int whole = 0, whole_inside = 0, first_whole = -1;
-      for (int i = 0; i < n; ++i)
-        if (whole_slab(i)) {
-          if (first_whole < 0) first_whole = i;
-          ++whole, whole_inside += i > 0 && i < n - 1;
-        }
-      s.undecided[std::size_t(a)] = whole >= 3 || (whole == 2 && whole_inside > 0);
+      const WholeSlabs whole = whole_slabs();
+      s.undecided[std::size_t(a)] = whole.undecided();
       // Two whole slabs and, past the end plane beside one of them, an end cell that lies whole within the
       // model (docs/method.md 2.10, The plain one repeats, A module in the end cell): the end cell, compared
       // over its whole cell, may be the third module of an A B A (a connector's last pin with its slot, past
       // an end plane cut before it). Where it is a copy of the farther whole slab, B's difference from the
       // A's is plain and theirs from B is not, B repeats.
-      if (whole == 2 && whole_inside > 0) {
-        const int x = first_whole, y = first_whole + 1;
+      if (whole.count == 2 && whole.inside > 0) {
+        const int x = whole.first, y = whole.first + 1;
         int e = -1, b = -1, other = -1;  // the end cell, B, the whole A
         if (y + 1 == n - 1 && hi < double(n) && m1 >= double(n) - 1e-9) e = n - 1, b = y, other = x;
         else if (x == 1 && lo > 0 && m0 <= 1e-9) e = 0, b = x, other = y;
@@ -631,14 +639,13 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     // period puts on a front). The run may then be a gap in one part, not a repeat.
     const auto partial = [&](int i) { return (i == 0 && low_partial) || (i == n - 1 && high_partial); };
     bool through_end = false, whole_copies = false;
-    int r0 = n, r1 = -1, whole = 0, whole_inside = 0;  // the run of repeating slabs; the whole slabs
+    int r0 = n, r1 = -1;  // the run of repeating slabs
     for (int i = 0; i < n; ++i) {
       const int j = copy_of[std::size_t(i)];
       if (j >= 0 && j != i) (partial(i) || partial(j) ? through_end : whole_copies) = true;
       if (j >= 0) r0 = std::min(r0, i), r1 = std::max(r1, i + 1);
-      if (whole_slab(i)) ++whole, whole_inside += i > 0 && i < n - 1;
     }
-    if (through_end && !whole_copies && (whole >= 3 || (whole == 2 && whole_inside > 0))) {
+    if (through_end && !whole_copies && whole_slabs().undecided()) {
       const double t0 = std::max(double(r0), lo_cmp), t1 = std::min(double(r1), hi_cmp);  // the run's range
       const Eigen::Vector3d along = v.normalized();
       const double step = std::max(s.spacing[a], 1e-3);
