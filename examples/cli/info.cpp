@@ -28,8 +28,6 @@ void register_info(CLI::App& app, int* exit_code) {
       return;
     }
     const BoundingBox box = bounding_box(*mesh);
-    std::size_t tex_groups = 0;
-    for (const Group& g : mesh->groups) tex_groups += g.attributes.uv_sets > 0;
     nlohmann::json j;
     j["file"] = args->input;
     j["meshes"] = report.meshes;
