@@ -71,6 +71,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -439,6 +440,76 @@ void collect_candidates(double tolerance, Analysis& a) {
   a.candidates = std::move(kept);
 }
 
+/// docs/method.md 1.13: whether a shift snapped onto the vertices moves two exact copies that make up half
+/// of the model: at least a quarter of the (queried) vertices pair, at least a quarter of the surface area is
+/// triangles whose three corners, moved by it, land on vertices (within the snap's end radius), and of that
+/// area at most a quarter lands on vertices again at twice the shift. A quarter: with two copies of area A_m
+/// each and the rest A_e, the share is A_m / (2 A_m + A_e), at least 1/4 exactly when the copies make up half
+/// of the surface. The tests are recorded ("pair_exact_vertices", "pair_exact_area", "pair_third_copy"). The
+/// vertices' grid is built on the first shift that gets that far.
+class ExactPairs {
+public:
+  ExactPairs(const Mesh& mesh, const Normalization& norm, const Eigen::Matrix<double, Eigen::Dynamic, 3>& vertices,
+             const SnapOptions& snap)
+      : mesh_(mesh), norm_(norm), vertices_(vertices), snap_(snap) {}
+
+  /// `inside`: where not null, only the triangles whose centroid lies between the end slabs of that lattice
+  /// along `axis` count towards the area (cells 1 to cells - 2: the model's ends aside).
+  bool two_copies(const SnapResult& snapped, std::vector<OffsetTest>& tests, const Lattice* inside = nullptr,
+                  int axis = 0) {
+    if (vertices_.rows() == 0 || mesh_.F.rows() == 0) return false;
+    const double queries = double(snap_.max_queries > 0
+                                      ? std::min<std::size_t>(std::size_t(vertices_.rows()), snap_.max_queries)
+                                      : std::size_t(vertices_.rows()));
+    if (!record_test(tests, "pair_exact_vertices", double(snapped.pairs) / queries, 0.25)) return false;
+    if (!grid_) {
+      grid_ = std::make_unique<CellChains>(std::size_t(vertices_.rows()));
+      for (Eigen::Index v = 0; v < vertices_.rows(); ++v) grid_->insert(cell(vertices_.row(v).transpose()), std::int32_t(v));
+    }
+    double paired = 0, third = 0, total = 0;
+    const Eigen::Vector3d t = snapped.offset;
+    const Eigen::Matrix3d to_cells = inside ? inside->A_inverse() : Eigen::Matrix3d::Identity();
+    for (Eigen::Index f = 0; f < mesh_.F.rows(); ++f) {
+      Eigen::Vector3d c[3];
+      for (int k = 0; k < 3; ++k) c[k] = norm_.to_normalized(mesh_.V.row(mesh_.F(f, k)).template cast<double>().transpose());
+      if (inside) {
+        const double u = (to_cells * (norm_.to_model((c[0] + c[1] + c[2]) / 3) - inside->origin))[axis];
+        if (!(u >= 1 && u <= inside->cells[axis] - 1)) continue;
+      }
+      const double area = (c[1] - c[0]).cross(c[2] - c[0]).norm();
+      total += area;
+      if (!(lands(c[0] + t) && lands(c[1] + t) && lands(c[2] + t))) continue;
+      paired += area;
+      if (lands(c[0] + 2 * t) && lands(c[1] + 2 * t) && lands(c[2] + 2 * t)) third += area;
+    }
+    if (!record_test(tests, "pair_exact_area", total > 0 ? paired / total : 0.0, 0.25)) return false;
+    // Two copies: what lands at t does not land again at 2 t (0 but by chance). A pattern of n >= 3 copies
+    // lands (n - 2) / (n - 1) >= 1/2 of it there, a slide along a surface tessellated in k equal rows
+    // (k - 2) / (k - 1); at most 1/4, halfway.
+    return record_test(tests, "pair_third_copy", paired > 0 ? third / paired : 0.0, 0.25, true);
+  }
+
+private:
+  Cell cell(const Eigen::Vector3d& p) const {
+    return Cell{cell_index(p.x(), h()), cell_index(p.y(), h()), cell_index(p.z(), h())};
+  }
+  double h() const { return 4 * snap_.end_radius; }  // grid cell; a partner lies within end_radius
+  bool lands(const Eigen::Vector3d& q) const {
+    const double r2 = snap_.end_radius * snap_.end_radius;
+    bool hit = false;
+    grid_->for_each_in(cell((q.array() - h()).matrix()), cell((q.array() + h()).matrix()), [&](std::int32_t v) {
+      hit = hit || (vertices_.row(v).transpose() - q).squaredNorm() <= r2;
+    });
+    return hit;
+  }
+
+  const Mesh& mesh_;
+  const Normalization& norm_;
+  const Eigen::Matrix<double, Eigen::Dynamic, 3>& vertices_;
+  const SnapOptions& snap_;
+  std::unique_ptr<CellChains> grid_;  // the unique vertices by cell
+};
+
 /// The greedy principal offsets over the promoted offsets (first, in request order) and the
 /// significant ones reduced to fundamentals among themselves, vertex snapping, the lattice fit, and
 /// the candidates. `vertices`: the unique vertex positions (normalized), or null when offsets are not
@@ -452,54 +523,16 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
   for (std::size_t i = 0; i < a.dominant.size(); ++i)
     if (a.dominant[i].significant && !a.dominant[i].promoted)
       significant.push_back(a.dominant[i].offset), where.push_back(int(i));
-  // Two copies (docs/method.md 1.13): a pair whose copies are exact and make up half of the model (a quarter
-  // of the vertices pair, and a quarter of the surface is triangles whose corners, moved by it, land on
-  // vertices) is as certain as a pattern; after the patterns, and not when the significant offsets span it.
-  if (vertices && options.exact_pairs && vertices->rows() > 0 && mesh.F.rows() > 0) {
+  // Two copies (docs/method.md 1.13): a pair whose copies are exact and make up half of the model is as
+  // certain as a pattern; after the patterns, and not when the significant offsets span it.
+  if (vertices && options.exact_pairs) {
     const std::vector<Eigen::Vector3d> basis = independent_offsets(significant, options.dense_spacing);
-    const double h = 4 * options.snap.end_radius;  // grid cell; a partner lies within end_radius
-    std::unique_ptr<CellChains> grid;                // the unique vertices by cell, built for the first pair
-    const auto cell = [h](const Eigen::Vector3d& p) {
-      return Cell{cell_index(p.x(), h), cell_index(p.y(), h), cell_index(p.z(), h)};
-    };
+    ExactPairs pairs(mesh, a.normalization, *vertices, options.snap);
     for (std::size_t i = 0; i < a.dominant.size(); ++i) {
       DominantOffset& d = a.dominant[i];
       if (d.promoted || !d.is_pair() || is_lattice_vector(d.offset, basis, nullptr, options.dense_spacing)) continue;
       const SnapResult snapped = snap_offset(*vertices, d.offset, options.snap);
-      if (!snapped.snapped) continue;
-      const double queries = double(options.snap.max_queries > 0
-                                        ? std::min<std::size_t>(std::size_t(vertices->rows()), options.snap.max_queries)
-                                        : std::size_t(vertices->rows()));
-      if (!record_test(d.tests, "pair_exact_vertices", double(snapped.pairs) / queries, 0.25)) continue;
-      if (!grid) {
-        grid = std::make_unique<CellChains>(std::size_t(vertices->rows()));
-        for (Eigen::Index v = 0; v < vertices->rows(); ++v) grid->insert(cell(vertices->row(v).transpose()), std::int32_t(v));
-      }
-      const auto lands = [&](const Eigen::Vector3d& q) {
-        const double r2 = options.snap.end_radius * options.snap.end_radius;
-        bool hit = false;
-        grid->for_each_in(cell((q.array() - h).matrix()), cell((q.array() + h).matrix()), [&](std::int32_t v) {
-          hit = hit || (vertices->row(v).transpose() - q).squaredNorm() <= r2;
-        });
-        return hit;
-      };
-      double paired = 0, third = 0, total = 0;
-      const Eigen::Vector3d t = snapped.offset;
-      for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-        Eigen::Vector3d c[3];
-        for (int k = 0; k < 3; ++k)
-          c[k] = a.normalization.to_normalized(mesh.V.row(mesh.F(f, k)).template cast<double>().transpose());
-        const double area = (c[1] - c[0]).cross(c[2] - c[0]).norm();
-        total += area;
-        if (!(lands(c[0] + t) && lands(c[1] + t) && lands(c[2] + t))) continue;
-        paired += area;
-        if (lands(c[0] + 2 * t) && lands(c[1] + 2 * t) && lands(c[2] + 2 * t)) third += area;
-      }
-      if (!record_test(d.tests, "pair_exact_area", total > 0 ? paired / total : 0.0, 0.25)) continue;
-      // Two copies: what lands at t does not land again at 2 t (0 but by chance). A pattern of n >= 3 copies
-      // lands (n - 2) / (n - 1) >= 1/2 of it there, a slide along a surface tessellated in k equal rows
-      // (k - 2) / (k - 1); at most 1/4, halfway.
-      if (!record_test(d.tests, "pair_third_copy", paired > 0 ? third / paired : 0.0, 0.25, true)) continue;
+      if (!snapped.snapped || !pairs.two_copies(snapped, d.tests)) continue;
       d.offset = snapped.offset;
       d.significant = true;
       significant.push_back(d.offset), where.push_back(int(i));
@@ -551,6 +584,14 @@ double repeated_length(const CellStructure& s, const Lattice& L, int a) {
   return repeating * L.A.col(a).norm();
 }
 
+/// The parts along lattice axis a inside the model (holding no end slab).
+template <class = void>
+std::ptrdiff_t inner_parts(const CellStructure& s, int a) {
+  return std::count_if(s.parts.begin(), s.parts.end(), [&](const SingularPart& p) {
+    return p.axis == a && p.first > 0 && p.last < s.cells[a] - 1;
+  });
+}
+
 /// Whether a part along lattice axis a inside the model (holding no end slab) is a copy of another part
 /// (SingularPart::repeated): content that recurs, which a period that makes it a part has missed (1.12).
 template <class = void>
@@ -573,6 +614,31 @@ Unread structure_unread(const CellStructure& s, int a) {
   if (s.cells[a] >= 3 && !c.empty() && std::count(c.begin(), c.end(), -1) == int(c.size()))
     return Unread::nothing_repeats;
   return Unread::read;
+}
+
+/// Replaces principal axis k's period by `period` (snapped; `f`: the factor it is of the old one, m > 0 a
+/// multiple, -m a divisor, 0 another repeat) on the lattice `fit` of `axes` (which holds it), and records
+/// the factor (and `tests`) on the dominant offset the axis came from.
+template <class = void>
+void take_period(Analysis& a, const PrincipalOffsets& axes, int k, const Eigen::Vector3d& period,
+                 const LatticeFit& fit, int f, const std::vector<OffsetTest>& tests) {
+  const double before = a.axes.axes[std::size_t(k)].norm();
+  a.axes = axes;
+  a.principal[std::size_t(k)] = period;
+  a.lattice = fit.lattice;
+  a.A_normalized = fit.A_normalized;
+  a.origin_normalized = fit.origin_normalized;
+  a.phase = fit.phase;
+  if (const int i = a.axes.source[std::size_t(k)]; i >= 0) {
+    DominantOffset& d = a.dominant[std::size_t(i)];
+    d.offset = period;
+    if (f == 0)
+      record_test(d.tests, "structure_shorter", before / period.norm(), 1);
+    else
+      record_test(d.tests, f > 0 ? "structure_multiple" : "structure_divisor", std::abs(f), 2);
+    d.tests.insert(d.tests.end(), tests.begin(), tests.end());
+    d.divisor = f >= 0 ? d.divisor : d.divisor * -f;
+  }
 }
 
 /// docs/method.md 1.12: each principal offset t checked against the structure of the model on its
@@ -690,14 +756,8 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       // past its periodic part, against the first two).
       const CellStructure there = cell_structure(mesh, a, fit->lattice, 0, surface.get(), f == 0, k);
       const double got = repeated_length(there, fit->lattice, k);
-      // The parts along k inside the model (not holding an end slab: how the ends fall differs between
-      // lattices, a shutter's bottom rail takes two cells of its slat pitch and one of six pitches).
-      const auto inner = [k](const CellStructure& c, const SingularPart& p) {
-        return p.axis == k && p.first > 0 && p.last < c.cells[k] - 1;
-      };
-      const auto inner_parts = [&](const CellStructure& c) {
-        return std::count_if(c.parts.begin(), c.parts.end(), [&](const SingularPart& p) { return inner(c, p); });
-      };
+      // The parts along k are counted inside the model (not holding an end slab: how the ends fall differs
+      // between lattices, a shutter's bottom rail takes two cells of its slat pitch and one of six pitches).
       // Either must make some neighbouring cells copies (an axis too short to compare any is no answer).
       // A divisor explains as much of the model as t did, one period aside (the end slabs fall differently),
       // with no more parts inside it (a third of a pitch over a wall subdivided in thirds repeats the wall
@@ -713,25 +773,11 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       const bool covers = got >= have - t.norm() / a.normalization.scale;
       const double spans = a.lattice.cells[k] * t.norm() / a.normalization.scale;
       const bool covers_more = have > 0 ? got >= have : got >= 0.5 * spans;
-      if (!(got > 0) || (f < 0 && (!covers || inner_parts(there) > inner_parts(st))) ||
-          (f == 0 && (!covers_more || repeated_inner_part(there, k) || inner_parts(there) > inner_parts(st) + 1)))
+      if (!(got > 0) || (f < 0 && (!covers || inner_parts(there, k) > inner_parts(st, k))) ||
+          (f == 0 && (!covers_more || repeated_inner_part(there, k) || inner_parts(there, k) > inner_parts(st, k) + 1)))
         continue;
-      a.axes = axes;
-      if (f == 0 && g.from >= 0) a.axes.source[std::size_t(k)] = g.from;  // else t's dominant now reads s
-      a.principal[std::size_t(k)] = snapped.offset;
-      a.lattice = fit->lattice;
-      a.A_normalized = fit->A_normalized;
-      a.origin_normalized = fit->origin_normalized;
-      a.phase = fit->phase;
-      if (const int i = a.axes.source[std::size_t(k)]; i >= 0) {
-        DominantOffset& d = a.dominant[std::size_t(i)];
-        d.offset = snapped.offset;
-        if (f == 0)
-          record_test(d.tests, "structure_shorter", t.norm() / snapped.offset.norm(), 1);
-        else
-          record_test(d.tests, f > 0 ? "structure_multiple" : "structure_divisor", std::abs(f), 2);
-        d.divisor = f >= 0 ? d.divisor : d.divisor * -f;
-      }
+      if (f == 0 && g.from >= 0) axes.source[std::size_t(k)] = g.from;  // else t's dominant now reads s
+      take_period(a, axes, k, snapped.offset, *fit, f, {});
       // The refit moves every axis's planes (A changed): the axes before are not known any more.
       for (int i = 0; i < k; ++i) unread[std::size_t(i)] = -1;
       unread[std::size_t(k)] = int(structure_unread(there, k));
@@ -940,10 +986,7 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
             // the cheapest phase cut has one whole cell, the second pin's, and its third pin in the end cell).
             const bool whole_ends = why == Unread::undecided_axis;
             const CellStructure st = cell_structure(mesh, a, fits[t]->lattice, 0, surface.get(), !whole_ends, k);
-            const bool inner = std::any_of(st.parts.begin(), st.parts.end(), [&](const SingularPart& p) {
-              return p.axis == k && p.first > 0 && p.last < st.cells[k] - 1;
-            });
-            good[t] = structure_unread(st, k) == Unread::read && (inner || !whole_ends) &&
+            good[t] = structure_unread(st, k) == Unread::read && (inner_parts(st, k) > 0 || !whole_ends) &&
                       repeated_length(st, fits[t]->lattice, k) > 0 && !repeated_inner_part(st, k);
           },
           [](std::size_t) { return true; });
@@ -961,6 +1004,55 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
   return {};
 }
 
+/// docs/method.md 1.12, Two copies of a multiple: along each principal axis k still undecided on every phase
+/// tried (phase_by_structure), the shortest m t, m = 2..4, with at least two periods along the model,
+/// snapped within (m + 1) snap end radii of m t, that moves two exact copies making up half of what lies
+/// between t's end slabs (ExactPairs, its area counted there: the ends are the part's end structure) and
+/// reads the axis on its lattice (end slabs over their periodic parts, as the retargeter reads them) with no
+/// part inside the model (two copies between the ends, nothing else): a
+/// railing of two modules of two alternating balusters between its posts, whose half module the rails and
+/// bars repeat. `vertices`: the unique vertex positions (normalized); nothing is done without them.
+template <class D, class M, class Det>
+Status two_copy_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
+                        const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices,
+                        std::unique_ptr<TriangleSurface>& surface, Analysis& a) {
+  if (!options.verify_periods || !options.exact_pairs || !vertices || a.axes.real_count == 0 || a.dense.size() == 0)
+    return {};
+  std::optional<ExactPairs> pairs;  // the vertices' grid, once a multiple needs it
+  bool changed = false;
+  for (int k = 0; k < a.axes.real_count; ++k) {
+    if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
+    if (!cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k).undecided[std::size_t(k)]) continue;
+    const Eigen::Vector3d t = a.axes.axes[std::size_t(k)];
+    const double extent = a.lattice.cells[k] * t.norm();  // the model's length along t, about
+    for (int m = 2; m <= 4 && 2 * m * t.norm() <= extent + 1e-9; ++m) {
+      const SnapResult snapped = snap_offset(*vertices, t * double(m), options.snap);
+      if (!snapped.snapped || (snapped.offset - t * double(m)).norm() > (m + 1) * options.snap.end_radius) continue;
+      std::vector<OffsetTest> tests;
+      if (!(pairs ? *pairs : pairs.emplace(mesh, a.normalization, *vertices, options.snap))
+               .two_copies(snapped, tests, &a.lattice, k))
+        continue;
+      PrincipalOffsets axes = a.axes;
+      axes.axes[std::size_t(k)] = snapped.offset;
+      complete_with_dummies(axes, options.dummy_length);
+      Result<LatticeFit> fit = fit_lattice(mesh, a.normalization, a.dense, axes, options.lattice);
+      if (!fit) return fit.status();
+      // Two copies between the model's ends, and nothing else: its slabs are copies (not only some of their
+      // triangles: posts alike under caps that all differ pair their bodies three posts apart), and no part
+      // lies inside the model along k.
+      const CellStructure there = cell_structure(mesh, a, fit->lattice, 0, surface.get(), true, k);
+      if (structure_unread(there, k) != Unread::read || !(repeated_length(there, fit->lattice, k) > 0) ||
+          inner_parts(there, k) > 0)
+        continue;
+      take_period(a, axes, k, snapped.offset, *fit, m, tests);
+      changed = true;
+      break;
+    }
+  }
+  if (changed) collect_candidates(options.dense_spacing, a);
+  return {};
+}
+
 /// Stage "lattice": significant dominant offsets reduced to their fundamental periods, then select_and_fit.
 template <class D, class M, class Det>
 Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options, Analysis& a) {
@@ -973,6 +1065,7 @@ Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>&
   std::array<int, 3> unread{{-1, -1, -1}};  // per axis, as verify_periods found it (Unread)
   RESTITCH_TRY(verify_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a, unread));
   RESTITCH_TRY(phase_by_structure(mesh, options, surface, a, unread));
+  RESTITCH_TRY(two_copy_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a));
   return find_vertex_repeats(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a);
 }
 
