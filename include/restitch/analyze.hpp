@@ -616,6 +616,17 @@ Unread structure_unread(const CellStructure& s, int a) {
   return Unread::read;
 }
 
+/// The lattice of `a`'s principal offsets with axis k's period replaced by `period` (written to `axes`, the
+/// dummy directions completed).
+template <class D, class M, class Det>
+Result<LatticeFit> fit_with_period(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options, const Analysis& a,
+                                   int k, const Eigen::Vector3d& period, PrincipalOffsets& axes) {
+  axes = a.axes;
+  axes.axes[std::size_t(k)] = period;
+  complete_with_dummies(axes, options.dummy_length);
+  return fit_lattice(mesh, a.normalization, a.dense, axes, options.lattice);
+}
+
 /// Replaces principal axis k's period by `period` (snapped; `f`: the factor it is of the old one, m > 0 a
 /// multiple, -m a divisor, 0 another repeat) on the lattice `fit` of `axes` (which holds it), and records
 /// the factor (and `tests`) on the dominant offset the axis came from.
@@ -744,10 +755,8 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
           (f == 0 && (moved > (g.from >= 0 ? options.dense_spacing : 2 * options.snap.end_radius) ||
                       across.norm() > 2 * options.snap.end_radius)))
         continue;
-      PrincipalOffsets axes = a.axes;
-      axes.axes[std::size_t(k)] = snapped.offset;
-      complete_with_dummies(axes, options.dummy_length);
-      Result<LatticeFit> fit = fit_lattice(mesh, a.normalization, a.dense, axes, options.lattice);
+      PrincipalOffsets axes;
+      Result<LatticeFit> fit = fit_with_period(mesh, options, a, k, snapped.offset, axes);
       if (!fit) return fit.status();
       // A divisor or a multiple is a guess, taken on proof: its slabs are compared whole. An end slab
       // compared over its periodic part (2.10) matches its neighbour there by construction, which proves no
@@ -1032,10 +1041,8 @@ Status two_copy_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& opti
       if (!(pairs ? *pairs : pairs.emplace(mesh, a.normalization, *vertices, options.snap))
                .two_copies(snapped, tests, &a.lattice, k))
         continue;
-      PrincipalOffsets axes = a.axes;
-      axes.axes[std::size_t(k)] = snapped.offset;
-      complete_with_dummies(axes, options.dummy_length);
-      Result<LatticeFit> fit = fit_lattice(mesh, a.normalization, a.dense, axes, options.lattice);
+      PrincipalOffsets axes;
+      Result<LatticeFit> fit = fit_with_period(mesh, options, a, k, snapped.offset, axes);
       if (!fit) return fit.status();
       // Two copies between the model's ends, and nothing else: its slabs are copies (not only some of their
       // triangles: posts alike under caps that all differ pair their bodies three posts apart), and no part
