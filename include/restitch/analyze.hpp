@@ -944,11 +944,11 @@ Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& o
 /// that occurs once into the cells of what repeats (a notch edge in a plain column's cell) the structure
 /// cannot be read there, and the seams on exact copies are exact at any phase (the stitcher clips,
 /// docs/method.md 3). `unread`: per axis the Unread the caller found on the lattice as it is (as an int), -1
-/// where not known.
+/// where not known; updated with what is found here (read, 0, where another phase is taken).
 template <class D, class M, class Det>
 Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
                           std::unique_ptr<TriangleSurface>& surface, Analysis& a,
-                          const std::array<int, 3>& unread = {{-1, -1, -1}}) {
+                          std::array<int, 3>& unread) {
   if (options.max_phases_by_structure <= 0 || a.dense.size() == 0) return {};
   for (int k = 0; k < a.axes.real_count; ++k) {
     if (a.lattice.cells[k] < 3 || unread[std::size_t(k)] == 0) continue;  // fewer cells are read as they are
@@ -956,6 +956,7 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
     const Unread why = unread[std::size_t(k)] >= 0
                            ? Unread(unread[std::size_t(k)])
                            : structure_unread(cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k), k);
+    unread[std::size_t(k)] = int(why);
     if (why == Unread::read) continue;
     LatticeFit from;  // the lattice as fitted, and the cost of each phase along k
     from.lattice = a.lattice, from.A_normalized = a.A_normalized, from.origin_normalized = a.origin_normalized;
@@ -1006,6 +1007,7 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
         a.A_normalized = fits[t]->A_normalized;
         a.origin_normalized = fits[t]->origin_normalized;
         a.phase = fits[t]->phase;
+        unread[std::size_t(k)] = int(Unread::read);
         taken = true;
       }
     }
@@ -1021,17 +1023,21 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
 /// part inside the model (two copies between the ends, nothing else): a
 /// railing of two modules of two alternating balusters between its posts, whose half module the rails and
 /// bars repeat. `vertices`: the unique vertex positions (normalized); nothing is done without them.
+/// `unread`: per axis the Unread found on the lattice as it is (as an int), -1 where not known.
 template <class D, class M, class Det>
 Status two_copy_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
                         const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices,
-                        std::unique_ptr<TriangleSurface>& surface, Analysis& a) {
+                        std::unique_ptr<TriangleSurface>& surface, Analysis& a, const std::array<int, 3>& unread) {
   if (!options.verify_periods || !options.exact_pairs || !vertices || a.axes.real_count == 0 || a.dense.size() == 0)
     return {};
   std::optional<ExactPairs> pairs;  // the vertices' grid, once a multiple needs it
   bool changed = false;
   for (int k = 0; k < a.axes.real_count; ++k) {
     if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
-    if (!cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k).undecided[std::size_t(k)]) continue;
+    const int why = unread[std::size_t(k)];
+    if (why >= 0 ? why != int(Unread::undecided_axis)
+                 : !cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k).undecided[std::size_t(k)])
+      continue;
     const Eigen::Vector3d t = a.axes.axes[std::size_t(k)];
     const double extent = a.lattice.cells[k] * t.norm();  // the model's length along t, about
     for (int m = 2; m <= 4 && 2 * m * t.norm() <= extent + 1e-9; ++m) {
@@ -1072,7 +1078,7 @@ Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>&
   std::array<int, 3> unread{{-1, -1, -1}};  // per axis, as verify_periods found it (Unread)
   RESTITCH_TRY(verify_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a, unread));
   RESTITCH_TRY(phase_by_structure(mesh, options, surface, a, unread));
-  RESTITCH_TRY(two_copy_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a));
+  RESTITCH_TRY(two_copy_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a, unread));
   return find_vertex_repeats(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a);
 }
 
@@ -1217,7 +1223,8 @@ Status promote_offsets(const Mesh& mesh, const AnalysisOptions<D, M, Det>& optio
     const auto t0 = std::chrono::steady_clock::now();
     RESTITCH_TRY(detail::select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, b));
     std::unique_ptr<detail::TriangleSurface> surface;
-    RESTITCH_TRY(detail::phase_by_structure(mesh, options, surface, b));
+    std::array<int, 3> unread{{-1, -1, -1}};
+    RESTITCH_TRY(detail::phase_by_structure(mesh, options, surface, b, unread));
     b.timings_ms["promotion"] = detail::elapsed_ms(t0);
     a = std::move(b);
     return {};
