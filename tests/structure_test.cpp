@@ -938,6 +938,35 @@ TEST_CASE("analysis: a radiator whose fin pitch drifts slowly has its mean pitch
   }
 }
 
+TEST_CASE("analysis: a divisor whose copies lie only at multiples of the period is not taken", "[structure][samples]") {
+  // A 5-column box header whose shroud walls are cut every half pitch: its vertices pair at half the pitch, and
+  // on that lattice the two plain columns around the notch are copies eight cells apart, as many cells of half
+  // the pitch as the pitch's lattice has, less one period, so half the pitch covered as much. Those are the
+  // pitch's own copies on a finer grid: the period stays the pitch, and the header resizes in place.
+  std::map<std::string, double> at{{"pitch", 1.86892},       {"shroud_end", 3.61997}, {"width", 7.99427},
+                                   {"height", 10.3716},      {"base", 2.27809},       {"wall", 0.820945},
+                                   {"notch_width", 4.38109}, {"pin_size", 0.557539},  {"pin_above", 6.95753},
+                                   {"pin_below", 3.58871},   {"columns", 5}};
+  const Family f = make("box_header", at);
+  REQUIRE(f.axis >= 0);
+  CHECK(std::abs(f.analysis.lattice.A.col(f.axis).norm() - at["pitch"]) < 1e-3 * at["pitch"]);
+  Retargeter<> r(f.sample.mesh, f.analysis);
+  REQUIRE(r.status().ok());
+  for (const int m : {4, 7}) check_resized_to(r, f, "box_header", at, 5, m);
+  // The rule on its own: copies at a shift of no multiple of m cells, and only those, prove t / m.
+  CellStructure s;
+  s.cells = Eigen::Array3i(15, 1, 1);
+  s.copy_of[0] = std::vector<int>(15, -1);
+  s.copy_of[0][3] = 11;
+  s.copy_of[0][11] = 3;
+  CHECK_FALSE(detail::copies_off_multiple(s, 0, 2));
+  CHECK(detail::copies_off_multiple(s, 0, 3));
+  s.copy_of[0][7] = 7;  // one period of what repeats (the plain middle of A B A) is no copy at a shift
+  CHECK_FALSE(detail::copies_off_multiple(s, 0, 2));
+  s.copy_of[0][4] = 5;
+  CHECK(detail::copies_off_multiple(s, 0, 2));
+}
+
 TEST_CASE("analysis: long runs of slats split by a rail have the slat pitch as period, and resize in place",
           "[structure][samples][slow]") {
   // 47 and 48 slats in two runs (24 below the rail): the matching sees only multiples of the 0.07 pitch (it

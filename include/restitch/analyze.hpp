@@ -592,6 +592,18 @@ std::ptrdiff_t inner_parts(const CellStructure& s, int a) {
   });
 }
 
+/// Whether some slab along lattice axis a is a copy of a slab a number of cells away that is no multiple of m:
+/// copies a divisor t / m of the period t proves (1.12). Copies only at multiples of m cells are t's own
+/// copies on a finer grid (a box header's two plain columns around its notch, four pitches apart, are so
+/// eight half pitches apart), no sign that t / m repeats.
+template <class = void>
+bool copies_off_multiple(const CellStructure& s, int a, int m) {
+  const std::vector<int>& c = s.copy_of[std::size_t(a)];
+  for (std::size_t i = 0; i < c.size(); ++i)
+    if (c[i] >= 0 && (c[i] - int(i)) % m != 0) return true;
+  return false;
+}
+
 /// Whether a part along lattice axis a inside the model (holding no end slab) is a copy of another part
 /// (SingularPart::repeated): content that recurs, which a period that makes it a part has missed (1.12).
 template <class = void>
@@ -656,7 +668,7 @@ void take_period(Analysis& a, const PrincipalOffsets& axes, int k, const Eigen::
 /// lattice. Where no two neighbouring cells are copies (the axis is undecided, or decided by copies farther
 /// apart only), the shortest m t, m = 2..4, at which some are, with at least two cells; otherwise the
 /// shortest t / m, m = max_divisor..2, at least one dense spacing long, whose copies pair vertex for vertex
-/// (snap_offset), some of whose neighbouring cells are copies, whose repeating cells cover at least as much
+/// (snap_offset), some of whose cells are copies at a shift t does not make, whose repeating cells cover at least as much
 /// of the model as t's, one period of t aside (the ends' slabs fall differently), and which has no more
 /// parts that occur once inside the model (not at an end) than t; then the shorter repeats along t that
 /// divide nothing (the run of slats with its rail). The first that qualifies replaces t (snapped), and the
@@ -769,7 +781,7 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       // between lattices, a shutter's bottom rail takes two cells of its slat pitch and one of six pitches).
       // Either must make some neighbouring cells copies (an axis too short to compare any is no answer).
       // A divisor explains as much of the model as t did, one period aside (the end slabs fall differently),
-      // with no more parts inside it (a third of a pitch over a wall subdivided in thirds repeats the wall
+      // with some copies at a shift t does not make (copies_off_multiple), and no more parts inside it (a third of a pitch over a wall subdivided in thirds repeats the wall
       // but makes every pin a part of its own; a quarter of a bookshelf's column every divider).
       // A shorter repeat found on its own (the matching voted for it, or the shaping vertices repeat at it)
       // is another repeat, not t cut finer, so no end falls differently: it covers at least what t's copies
@@ -782,7 +794,8 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       const bool covers = got >= have - t.norm() / a.normalization.scale;
       const double spans = a.lattice.cells[k] * t.norm() / a.normalization.scale;
       const bool covers_more = have > 0 ? got >= have : got >= 0.5 * spans;
-      if (!(got > 0) || (f < 0 && (!covers || inner_parts(there, k) > inner_parts(st, k))) ||
+      if (!(got > 0) ||
+          (f < 0 && (!covers || !copies_off_multiple(there, k, -f) || inner_parts(there, k) > inner_parts(st, k))) ||
           (f == 0 && (!covers_more || repeated_inner_part(there, k) || inner_parts(there, k) > inner_parts(st, k) + 1)))
         continue;
       if (f == 0 && g.from >= 0) axes.source[std::size_t(k)] = g.from;  // else t's dominant now reads s
