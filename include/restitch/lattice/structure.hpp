@@ -580,18 +580,19 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       }
     };
     find_parts();
-    // A run out of phase inside an end part: windows of one period at a phase other than the cells', each
-    // short of one sample spacing at both ends (a run of exactly two fills its two windows at one phase only,
-    // which a sweep in steps of a spacing would miss), whose samples moved onto each other land on the
-    // surface, and whose content changes along a (the plain test above, on the first window). An end part
-    // only: what a part kept at the centre holds is kept there whole on purpose (the pins inside a centred
-    // key notch repeat, and the notch must not widen), while a run at an end, past a rail, is a run the
-    // grow would leave out. Two windows, so three slabs at least; at the cells' own phase (within two
-    // spacings) the windows are the part's slabs, no copies. The one slab that lies inside the two windows
-    // is one period of the run (its copy one period on continues it), so it repeats (copy_of: itself), and
-    // the part is split around it: the run grows with the others.
+    // A run out of phase inside an end part: windows of one period at a phase other than the cells', swept
+    // in steps of half a sample spacing and each short of one step at both ends (a run of exactly two fills
+    // its two windows over two steps of phase only, which the sweep hits), whose samples moved onto each
+    // other land on the surface, and whose content changes along a (the plain test above, on the first
+    // window). An end part only: what a part kept at the centre holds is kept there whole on purpose (the
+    // pins inside a centred key notch repeat, and the notch must not widen), while a run at an end, past a
+    // rail, is a run the grow would leave out. Two windows, so three slabs at least; at the cells' own phase
+    // (within two steps, one sample spacing: a run closer to the planes has no sample between its own
+    // bounds and theirs to tell them apart) the windows are the part's slabs, no copies. The one slab that
+    // lies inside the two windows is one period of the run (its copy one period on continues it), so it
+    // repeats (copy_of: itself), and the part is split around it: the run grows with the others.
     std::vector<std::size_t> order;  // the samples by position along a, built for the first such part
-    const double step = std::max(s.spacing[a], 1e-3);
+    const double step = std::max(0.5 * s.spacing[a], 1e-3);
     std::vector<int> run_slabs;  // per run found, the slab inside its two windows
     for (const SingularPart& p : s.parts) {
       if (p.axis != a || p.last - p.first < 2 || (p.first > 0 && p.last < n - 1)) continue;
@@ -622,7 +623,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         if (std::min(phase, 1 - phase) < 2 * step || inner <= 0 || inner >= n - 1 || !land(w, 1) ||
             !land(w + 1, -1) || land(w, slide))
           continue;
-        run_slabs.push_back(inner);  // inside the part: w lies 2 spacings or more off a cell plane
+        run_slabs.push_back(inner);  // inside the part: w lies a spacing or more off a cell plane
         break;
       }
     }
