@@ -938,7 +938,8 @@ TEST_CASE("analysis: a radiator whose fin pitch drifts slowly has its mean pitch
   }
 }
 
-TEST_CASE("analysis: a divisor whose copies lie only at multiples of the period is not taken", "[structure][samples]") {
+TEST_CASE("analysis: a divisor whose copies lie only at multiples of the period is not taken",
+          "[structure][samples]") {
   // A 5-column box header whose shroud walls are cut every half pitch: its vertices pair at half the pitch, and
   // on that lattice the two plain columns around the notch are copies eight cells apart, as many cells of half
   // the pitch as the pitch's lattice has, less one period, so half the pitch covered as much. Those are the

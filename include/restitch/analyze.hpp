@@ -668,9 +668,9 @@ void take_period(Analysis& a, const PrincipalOffsets& axes, int k, const Eigen::
 /// lattice. Where no two neighbouring cells are copies (the axis is undecided, or decided by copies farther
 /// apart only), the shortest m t, m = 2..4, at which some are, with at least two cells; otherwise the
 /// shortest t / m, m = max_divisor..2, at least one dense spacing long, whose copies pair vertex for vertex
-/// (snap_offset), some of whose cells are copies at a shift t does not make, whose repeating cells cover at least as much
-/// of the model as t's, one period of t aside (the ends' slabs fall differently), and which has no more
-/// parts that occur once inside the model (not at an end) than t; then the shorter repeats along t that
+/// (snap_offset), some of whose cells are copies at a shift t does not make, whose repeating cells cover at
+/// least as much of the model as t's, one period of t aside (the ends' slabs fall differently), and which has
+/// no more parts that occur once inside the model (not at an end) than t; then the shorter repeats along t that
 /// divide nothing (the run of slats with its rail). The first that qualifies replaces t (snapped), and the
 /// dominant offset it came from gets its divisor (or multiple) and a test record "structure_divisor" /
 /// "structure_multiple" / "structure_shorter". `vertices`: the unique vertex positions (normalized);
@@ -781,8 +781,9 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       // between lattices, a shutter's bottom rail takes two cells of its slat pitch and one of six pitches).
       // Either must make some neighbouring cells copies (an axis too short to compare any is no answer).
       // A divisor explains as much of the model as t did, one period aside (the end slabs fall differently),
-      // with some copies at a shift t does not make (copies_off_multiple), and no more parts inside it (a third of a pitch over a wall subdivided in thirds repeats the wall
-      // but makes every pin a part of its own; a quarter of a bookshelf's column every divider).
+      // with some copies at a shift t does not make (copies_off_multiple), and no more parts inside it (a
+      // third of a pitch over a wall subdivided in thirds repeats the wall but makes every pin a part of its
+      // own; a quarter of a bookshelf's column every divider).
       // A shorter repeat found on its own (the matching voted for it, or the shaping vertices repeat at it)
       // is another repeat, not t cut finer, so no end falls differently: it covers at least what t's copies
       // did, and where t's cells are no copies (t is two copies: each whole slab is an end) at least half of
