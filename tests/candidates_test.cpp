@@ -269,6 +269,45 @@ TEST_CASE("fences of 2 and 3 pickets: no vote for the picket pitch, but the vert
   }
 }
 
+TEST_CASE("promote_offsets: a value typed that the vertices repeat at is not traded for a dominant offset nearby",
+          "[candidates][retarget]") {
+  // 3 pickets between posts (set 99 of `bench --only parameters --seeds 91..120`): the candidate is the picket
+  // pitch, 0.170, from the vertices; ICP from it slides, and the dominant offset 0.154 (a picket to a post,
+  // 0.026 of the normalized length away, within the overlap radius) was promoted instead: undecided, and the
+  // grow opened 227 edges. The value typed repeats the vertices; 0.154 does not snap to it.
+  std::map<std::string, double> params = {
+      {"picket_pitch", 0.17002857044583772},   {"picket_width", 0.1079251963818344},
+      {"picket_height", 1.1404375639965985},   {"picket_thickness", 0.022412108611403348},
+      {"point_height", 0.048959271754391902},  {"post_width", 0.12864088389415693},
+      {"post_height", 1.2036311557971313},     {"rail_height", 0.070578183981580944},
+      {"rail_thickness", 0.036327336099425164}, {"pickets", 3}};
+  const auto fence = families::generate("fence", params);
+  REQUIRE(fence.ok());
+  const Vector3d pitch = fence->generators[0];
+  Analysis a = *analyze(fence->mesh);
+  const std::vector<int> use = a.candidates_for_axes({{true, false, false}});
+  REQUIRE(use.size() == 1);
+  const Vector3d typed = a.model_units(a.candidates[std::size_t(use[0])]);
+  CHECK(recovered(pitch, {typed}, 1e-5, 0.01));
+  REQUIRE(promote_offsets(fence->mesh, AnalysisOptions<>{}, {typed}, a).ok());
+  REQUIRE(!a.principal.empty());
+  CHECK(recovered(pitch, {a.principal_model_units()[0]}, 1e-5, 0.01));
+  Retargeter<> r(fence->mesh, a);
+  REQUIRE(r.status().ok());
+  for (const int more : {-1, 2}) {
+    INFO(more << " more pickets");
+    params["pickets"] = 3 + more;
+    const auto want = families::generate("fence", params);
+    std::vector<int> steps(a.principal.size(), 0);
+    steps[0] = more;
+    const auto out = r.retarget(*lattice_steps_from_principal(a, steps));
+    REQUIRE(out.ok());
+    check_has_real_part(out->mesh, want->mesh);
+    CHECK(symmetric_surface_distance(out->mesh, want->mesh, 0.01) < 1e-4 * bounding_box(want->mesh).size().norm());
+    CHECK(out->report.boundary_edges_new() == 0);
+  }
+}
+
 TEST_CASE("a repeat of the vertices that is a detail of one part (three ribs at one end of a long bar) is no "
           "candidate",
           "[candidates][analysis]") {

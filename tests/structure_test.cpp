@@ -345,6 +345,54 @@ TEST_CASE("structure: a phase that cuts a part so that nothing repeats is replac
   }
 }
 
+// A 3-pin connector whose housing reaches past pin 1 by more than a pitch (wall 2.82 at a 1.93 pitch): the
+// cheapest phase cuts each end cap inside a module's cell, so its three whole cells all differ and the axis is
+// undecided; twice the pitch, slot module to slot module, was then taken as the period, and the grow to 5
+// put a slot in the middle, without a warning. Another phase reads slot, plain, slot (docs/method.md 2.10,
+// The plain one repeats): the slots are parts of their own beside the end slabs, which that phase keeps, so it
+// is taken (1.7, Phase by structure). Lengths drawn by `bench --only parameters --seeds 91..120` (set 111).
+TEST_CASE("structure: an undecided phase is replaced by one that keeps a slot next to each end in a slab of its own",
+          "[structure][samples]") {
+  std::map<std::string, double> at{{"pitch", 1.93114},      {"wall", 2.81944},       {"height", 7.27406},
+                                   {"depth", 4.56887},      {"opening", 1.48275},    {"opening_depth", 2.06354},
+                                   {"slot_width", 1.30769}, {"slot_height", 2.12204}, {"slot_depth", 0.901891},
+                                   {"pin_size", 0.801451},  {"pin_below", 2.28727},  {"pins", 3}};
+  const Family f = make("connector", at);
+  REQUIRE(f.axis >= 0);
+  CHECK(f.analysis.principal_model_units()[std::size_t(f.axis)].norm() == Approx(1.93114).epsilon(1e-4));
+  Retargeter<> r(f.sample.mesh, f.analysis);
+  REQUIRE(r.structure());
+  const CellStructure& s = *r.structure();
+  CHECK_FALSE(s.undecided[std::size_t(f.axis)]);
+  // The two slot modules do not repeat and each lies in the part of its end.
+  int slots = 0;
+  for (int i = 1; i + 1 < s.cells[f.axis]; ++i)
+    if (!s.repeats(f.axis, i)) {
+      ++slots;
+      const SingularPart* p = s.part_of(f.axis, i);
+      REQUIRE(p);
+      CHECK(p->anchor == (i < s.cells[f.axis] / 2 ? PartAnchor::low : PartAnchor::high));
+    }
+  CHECK(slots == 2);
+  // In place; the family's zero-width cracks between blocks tessellated differently may fall where the seams put
+  // them, so what is checked is that the stitch opens no edge the input has closed.
+  for (const int m : {2, 4, 5}) {
+    INFO("to " << m);
+    auto out = r.retarget(family_steps(f, m - 3));
+    REQUIRE(out.ok());
+    std::map<std::string, double> to = at;
+    to["pins"] = m;
+    const Mesh truth = families::generate("connector", to)->mesh;
+    const BoundingBox bt = bounding_box(truth), bo = bounding_box(out->mesh);
+    const double size = bt.size().norm();
+    CHECK((bt.min - bo.min).norm() < 1e-4 * size);
+    CHECK((bt.max - bo.max).norm() < 1e-4 * size);
+    CHECK(test::symmetric_surface_distance(out->mesh, truth, 0.004 * size) < 1e-4 * size);
+    CHECK(out->report.boundary_edges_new() == 0);
+    CHECK(out->report.warnings.empty());
+  }
+}
+
 // A rail as tall as the slat pitch, within the copies' tolerance: its bottom, in the slab below, reads there as
 // a copy of the top rail's bottom one period under the top, so the part is the rest of the rail, and the middle
 // of the part's difference from that slab, at the part's slabs' ends, lay a tenth of a period above the rail's

@@ -678,7 +678,7 @@ void bench_parameters(nlohmann::json& out) {
         if (q.integer) continue;
         params[q.name] = std::clamp(q.value * factor(rng), q.min, q.max);
         char b[96];
-        std::snprintf(b, sizeof b, " --%s %.6g", q.name.c_str(), params[q.name]);
+        std::snprintf(b, sizeof b, " --%s %.17g", q.name.c_str(), params[q.name]);
         args += b;
       }
       for (const int n : {3, 5, 7}) {
