@@ -349,8 +349,9 @@ TEST_CASE("structure: a phase that cuts a part so that nothing repeats is replac
 // cheapest phase cuts each end cap inside a module's cell, so its three whole cells all differ and the axis is
 // undecided; twice the pitch, slot module to slot module, was then taken as the period, and the grow to 5
 // put a slot in the middle, without a warning. Another phase reads slot, plain, slot (docs/method.md 2.10,
-// The plain one repeats): the slots are parts of their own beside the end slabs, which that phase keeps, so it
-// is taken (1.7, Phase by structure). Lengths drawn by `bench --only parameters --seeds 91..120` (set 111).
+// The plain one repeats): each slot is a slab of its own in its end's part, kept once, so that phase is taken
+// though no part lies inside (1.7, Phase by structure). Lengths drawn by `bench --only parameters --seeds
+// 91..120` (set 111).
 TEST_CASE("structure: an undecided phase is replaced by one that keeps a slot next to each end in a slab of its own",
           "[structure][samples]") {
   std::map<std::string, double> at{{"pitch", 1.93114},      {"wall", 2.81944},       {"height", 7.27406},
@@ -364,6 +365,7 @@ TEST_CASE("structure: an undecided phase is replaced by one that keeps a slot ne
   REQUIRE(r.structure());
   const CellStructure& s = *r.structure();
   CHECK_FALSE(s.undecided[std::size_t(f.axis)]);
+  CHECK(s.plain_middle[std::size_t(f.axis)]);
   // The two slot modules do not repeat and each lies in the part of its end.
   int slots = 0;
   for (int i = 1; i + 1 < s.cells[f.axis]; ++i)

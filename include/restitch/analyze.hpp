@@ -592,17 +592,6 @@ std::ptrdiff_t inner_parts(const CellStructure& s, int a) {
   });
 }
 
-/// Whether some slab along lattice axis a other than its two end slabs does not repeat: content that occurs
-/// once kept in a slab of its own between the ends (a part inside the model, or an end part that reaches
-/// past its end slab: a connector's slot next to each end, in the module beside each end cell).
-template <class = void>
-bool singular_past_end_slabs(const CellStructure& s, int a) {
-  const std::vector<int>& c = s.copy_of[std::size_t(a)];
-  for (std::size_t i = 1; i + 1 < c.size(); ++i)
-    if (c[i] < 0) return true;
-  return false;
-}
-
 /// Whether some slab along lattice axis a is a copy of a slab a number of cells away that is no multiple of m:
 /// copies a divisor t / m of the period t proves (1.12). Copies only at multiples of m cells are t's own
 /// copies on a finer grid (a box header's two plain columns around its notch, four pitches apart, are so
@@ -1012,19 +1001,18 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
             // its periodic part an end slab matches its neighbour by construction; so a 3-column box header,
             // whose notch reaches every column, read its open front as what repeats, and grew it). And it
             // must keep inside the model what made the cheapest phase undecided: there two whole cells
-            // inside the model differ, so a reading in which every slab between the end slabs repeats has
-            // moved that content into the end cells, which the cheapest phase refused (a 3-column box header
-            // whose notch reaches past its outer pins: every column an open front, the notch's edges in the
-            // end cells, and the notch grew with the pins). A slab of its own that does not repeat keeps it,
-            // inside the model or beside an end slab (a 3-pin connector whose wall is longer than its pitch:
-            // on the cheapest phase a cell plane cuts each end cap, on another its slot, plain, slot modules
-            // are read, the slots kept next to the ends).
+            // inside the model differ, so a reading with no part inside has moved that content into the
+            // ends, which the cheapest phase refused (a 3-column box header whose notch reaches past its
+            // outer pins: every column an open front, the notch's edges in the end parts, and the notch grew
+            // with the pins). Unless it is read as three modules A B A whose middle repeats: each A holds what
+            // B lacks, in a slab of its own, kept once (a 3-pin connector whose wall is longer than its pitch:
+            // the cheapest phase cuts each end cap inside a module's cell, another reads slot, plain, slot).
             // Where nothing repeated, no content was kept inside: a phase that keeps the part whole is read as
             // the retargeter reads it, end slabs over their periodic parts (a 3-pin package whose pin-1 marker
             // the cheapest phase cut has one whole cell, the second pin's, and its third pin in the end cell).
             const bool whole_ends = why == Unread::undecided_axis;
             const CellStructure st = cell_structure(mesh, a, fits[t]->lattice, 0, surface.get(), !whole_ends, k);
-            good[t] = structure_unread(st, k) == Unread::read && (singular_past_end_slabs(st, k) || !whole_ends) &&
+            good[t] = structure_unread(st, k) == Unread::read && (inner_parts(st, k) > 0 || st.plain_middle[std::size_t(k)] || !whole_ends) &&
                       repeated_length(st, fits[t]->lattice, k) > 0 && !repeated_inner_part(st, k);
           },
           [](std::size_t) { return true; });

@@ -111,6 +111,10 @@ struct CellStructure {
   /// all along: the run may be a gap in one part, not a repeat (docs/method.md 2.10, Copies read through an
   /// end; warned "short repeat").
   std::array<bool, 3> end_read{{false, false, false}};
+  /// Per axis: read by three modules A B A whose middle repeats, where nothing repeats next door: B's
+  /// difference from the A's is plain and theirs from B is not, so each A holds something B lacks, kept once
+  /// as a part (docs/method.md 2.10, The plain one repeats).
+  std::array<bool, 3> plain_middle{{false, false, false}};
   std::vector<SingularPart> parts;  ///< by axis, then index
   Eigen::Array3i cells = Eigen::Array3i::Ones();
   /// Per axis: the model's extent in canonical coordinates (its samples' lowest and highest).
@@ -432,7 +436,10 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         for (int m = i + 1; m < j; ++m) singular_between = singular_between || copy_of[std::size_t(m)] < 0;
       if (singular_between) s.far_copies[std::size_t(a)] = true;
       else copy_of.assign(std::size_t(n), -1);
-      if (plain_middle >= 0) copy_of[std::size_t(plain_middle)] = plain_middle;  // one period of what repeats
+      if (plain_middle >= 0) {
+        copy_of[std::size_t(plain_middle)] = plain_middle;  // one period of what repeats
+        s.plain_middle[std::size_t(a)] = true;
+      }
     }
     if (std::count(copy_of.begin(), copy_of.end(), -1) == n) {  // nothing repeats
       const WholeSlabs whole = whole_slabs();
@@ -458,6 +465,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
           const bool ends_plain = difference_plain(other, b - other, true) && difference_plain(e, b - e, true);
           if (middle_plain && !ends_plain) {
             copy_of[std::size_t(b)] = b;  // one period of what repeats
+            s.plain_middle[std::size_t(a)] = true;
             s.undecided[std::size_t(a)] = false;
           }
         }
