@@ -1012,7 +1012,8 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
             // the cheapest phase cut has one whole cell, the second pin's, and its third pin in the end cell).
             const bool whole_ends = why == Unread::undecided_axis;
             const CellStructure st = cell_structure(mesh, a, fits[t]->lattice, 0, surface.get(), !whole_ends, k);
-            good[t] = structure_unread(st, k) == Unread::read && (inner_parts(st, k) > 0 || st.plain_middle[std::size_t(k)] || !whole_ends) &&
+            const bool kept_inside = inner_parts(st, k) > 0 || st.plain_middle[std::size_t(k)];
+            good[t] = structure_unread(st, k) == Unread::read && (kept_inside || !whole_ends) &&
                       repeated_length(st, fits[t]->lattice, k) > 0 && !repeated_inner_part(st, k);
           },
           [](std::size_t) { return true; });
