@@ -82,12 +82,15 @@ Eigen::Array3i family_steps(const Family& f, int k) {
   return steps;
 }
 
-void check_in_place(const Mesh& out, const Mesh& truth) {
+// `open_length` false: the open length is not compared (a family whose zero-width cracks between blocks
+// tessellated differently a seam may put where the truth has none; the caller checks no edge was opened).
+void check_in_place(const Mesh& out, const Mesh& truth, bool open_length = true) {
   const BoundingBox bt = bounding_box(truth), bo = bounding_box(out);
   const double size = bt.size().norm();
   CHECK((bt.min - bo.min).norm() < 1e-4 * size);
   CHECK((bt.max - bo.max).norm() < 1e-4 * size);
   CHECK(test::symmetric_surface_distance(out, truth, 0.004 * size) < 1e-4 * size);
+  if (!open_length) return;
   const double open = test::open_boundary_length(truth);
   CHECK(test::open_boundary_length(out) <= open + 1e-6 * (1 + open));
 }
@@ -384,12 +387,7 @@ TEST_CASE("structure: an undecided phase is replaced by one that keeps a slot ne
     REQUIRE(out.ok());
     std::map<std::string, double> to = at;
     to["pins"] = m;
-    const Mesh truth = families::generate("connector", to)->mesh;
-    const BoundingBox bt = bounding_box(truth), bo = bounding_box(out->mesh);
-    const double size = bt.size().norm();
-    CHECK((bt.min - bo.min).norm() < 1e-4 * size);
-    CHECK((bt.max - bo.max).norm() < 1e-4 * size);
-    CHECK(test::symmetric_surface_distance(out->mesh, truth, 0.004 * size) < 1e-4 * size);
+    check_in_place(out->mesh, families::generate("connector", to)->mesh, false);
     CHECK(out->report.boundary_edges_new() == 0);
     CHECK(out->report.warnings.empty());
   }
