@@ -616,8 +616,9 @@ bool repeated_inner_part(const CellStructure& s, int a) {
 /// Why the structure along lattice axis a cannot be read on its grid phase (docs/method.md 1.7, Phase by
 /// structure): `undecided_axis` where no two slabs tell what occurs once, `nothing_repeats` where the axis
 /// has three cells or more and no slab repeats at all (a plane through a part that occurs once, a pin-1
-/// marker, leaves every cell different from every other), `read` otherwise.
-enum class Unread { read = 0, undecided_axis = 1, nothing_repeats = 2 };
+/// marker, leaves every cell different from every other), `gap_run` where what repeats may be a gap in one
+/// part and nothing else repeats (CellStructure::gap_run, with some slab repeating), `read` otherwise.
+enum class Unread { read = 0, undecided_axis = 1, nothing_repeats = 2, gap_run = 3 };
 
 template <class = void>
 Unread structure_unread(const CellStructure& s, int a) {
@@ -625,7 +626,7 @@ Unread structure_unread(const CellStructure& s, int a) {
   const std::vector<int>& c = s.copy_of[std::size_t(a)];
   if (s.cells[a] >= 3 && !c.empty() && std::count(c.begin(), c.end(), -1) == int(c.size()))
     return Unread::nothing_repeats;
-  return Unread::read;
+  return s.gap_run[std::size_t(a)] ? Unread::gap_run : Unread::read;
 }
 
 /// The lattice of `a`'s principal offsets with axis k's period replaced by `period` (written to `axes`, the
@@ -1010,7 +1011,7 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
             // Where nothing repeated, no content was kept inside: a phase that keeps the part whole is read as
             // the retargeter reads it, end slabs over their periodic parts (a 3-pin package whose pin-1 marker
             // the cheapest phase cut has one whole cell, the second pin's, and its third pin in the end cell).
-            const bool whole_ends = why == Unread::undecided_axis;
+            const bool whole_ends = why == Unread::undecided_axis || why == Unread::gap_run;
             const CellStructure st = cell_structure(mesh, a, fits[t]->lattice, 0, surface.get(), !whole_ends, k);
             const bool kept_inside = inner_parts(st, k) > 0 || st.plain_middle[std::size_t(k)];
             good[t] = structure_unread(st, k) == Unread::read && (kept_inside || !whole_ends) &&

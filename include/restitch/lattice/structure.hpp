@@ -115,6 +115,11 @@ struct CellStructure {
   /// difference from the A's is plain and theirs from B is not, so each A holds something B lacks, kept once
   /// as a part (docs/method.md 2.10, The plain one repeats).
   std::array<bool, 3> plain_middle{{false, false, false}};
+  /// Per axis: what repeats is a run of neighbouring copies that the model's two sides share a wall around
+  /// and it lacks all along, and nothing else repeats, or nothing repeats and a whole slab inside the model
+  /// lacks such a wall: what a resize copies may be a gap in one part (a key notch over every pin), not a
+  /// repeat (docs/method.md 2.10, A gap is no repeat; warned "short repeat").
+  std::array<bool, 3> gap_run{{false, false, false}};
   std::vector<SingularPart> parts;  ///< by axis, then index
   Eigen::Array3i cells = Eigen::Array3i::Ones();
   /// Per axis: the model's extent in canonical coordinates (its samples' lowest and highest).
@@ -334,6 +339,92 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         copy_of[std::size_t(i + 1)] = i;
       }
     const auto whole_slab = [&](int i) { return i >= lo - 1e-9 && i + 1 <= hi + 1e-9; };  // between the end planes
+    // The model's two sides of the range [t0, t1) along a share a surface the range lacks all along: a sample
+    // on one side, on a surface along a (a wall's face, not an end's), moved to every place inside the range
+    // one sample spacing apart, lands off the surface, and moved to some place on the other side lands on it
+    // (a shroud's front wall at both ends, and the notch between them all along the range; not the narrow gap
+    // between two drawer fronts, which a move by part of a period puts on a front). A `wall` must also run
+    // unbroken from the sample to the model's end on its side, and over the last period at the model's other
+    // end, facing the same way there, at least one period long at each end: a wall the range interrupts (a
+    // shroud's front wall from the notch's edge to the shroud's end; not a slot's floor next to each end, a
+    // rail between two runs of slats, or a fence's posts, narrower than a picket pitch). `wall_between_ends`:
+    // a wall, with only samples between the end planes looked at. `found`: where given, every such sample;
+    // otherwise the first ends the search.
+    const Eigen::Vector3d along = v.normalized();
+    const double lack_step = std::max(s.spacing[a], 1e-3);
+    // Sample k moved to every place in [u0, u1) one step apart lands on the surface.
+    const auto unbroken = [&](std::size_t k, double u0, double u1) {
+      for (double u = u0 + 0.5 * lack_step; u < u1; u += lack_step)
+        if (off_surface(k, u - canonical[k][a])) return false;
+      return true;
+    };
+    // The samples within two steps of each end of the model along a, where a surface the range lacks must be
+    // found at the other end; sample k moved by `shift` periods lands next to one of them (within 1.5 sample
+    // spacings, as samples of one surface lie) that faces the same way (normals within 60 degrees): the same
+    // wall continued, not a face turned the other way (the underside of a sheared facade's overhanging floor at
+    // one end, where the other end has the top of a floor below).
+    std::vector<std::size_t> end_low_samples, end_high_samples;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      if (canonical[k][a] <= m0 + 2 * lack_step) end_low_samples.push_back(k);
+      if (canonical[k][a] >= m1 - 2 * lack_step) end_high_samples.push_back(k);
+    }
+    const auto same_face_at = [&](std::size_t k, double shift, const std::vector<std::size_t>& near) {
+      const Eigen::Vector3d q = points[k] + shift * v;
+      for (const std::size_t j : near)
+        if ((points[j] - q).norm() <= 1.5 * spacing && normals[j].dot(normals[k]) >= 0.5) return true;
+      return false;
+    };
+    enum class Lack { anywhere, wall, wall_between_ends };
+    const auto lacks_all_along = [&](double t0, double t1, Lack how, std::vector<std::size_t>* found) {
+      const bool between_ends = how == Lack::wall_between_ends, wall = how != Lack::anywhere;
+      for (std::size_t k = 0; k < points.size(); ++k) {
+        const double t = canonical[k][a];
+        // Along a: the normal at least 60 degrees from it (not an end's face, nor a chamfer's at 45 degrees).
+        if (std::abs(normals[k].dot(along)) > 0.5 || (t >= t0 && t < t1)) continue;
+        if (between_ends && (t < lo_cmp || t >= hi_cmp)) continue;
+        bool lacked = true;
+        for (double u = t0 + 0.5 * lack_step; u < t1 && lacked; u += lack_step) lacked = off_surface(k, u - t);
+        if (!lacked) continue;
+        const bool below = t < t0;
+        if (wall && ((below ? t - m0 : m1 - t) < 1 || !(below ? unbroken(k, m0, t) : unbroken(k, t, m1)))) continue;
+        const double o0 = below ? t1 : m0, o1 = below ? m1 : t0;  // the other side
+        bool shared = false;
+        if (wall) {
+          const double end = below ? m1 - 0.5 * lack_step : m0 + 0.5 * lack_step;
+          shared = (below ? unbroken(k, m1 - 1, m1) : unbroken(k, m0, m0 + 1)) &&
+                   same_face_at(k, end - t, below ? end_high_samples : end_low_samples);
+        } else {
+          for (double u = o0 + 0.5 * lack_step; u < o1 && !shared; u += lack_step) shared = !off_surface(k, u - t);
+        }
+        if (!shared) continue;
+        if (!found) return true;
+        found->push_back(k);
+      }
+      return found && !found->empty();
+    };
+    // A run of neighbours that are copies, which the model's two sides share a surface around and it lacks
+    // all along (lacks_all_along, between the end planes), may be a gap in one part (a key notch over three
+    // pins, whose middle columns are copies: the notch widened with the pins), not what repeats (docs/method.md
+    // 2.10, A gap is no repeat). It is set aside while other slabs are found to repeat, next door or farther
+    // apart around it, that have that surface (a box header's columns beside the notch, with their front
+    // wall); where none is, it is kept, and the axis is marked (CellStructure::gap_run, warned "short repeat").
+    std::vector<char> gap(std::size_t(n), 0);
+    std::vector<std::size_t> lacked;  // the samples of the surface the gaps lack
+    const std::vector<int> next_door = copy_of;
+    for (int i = 0; i < n;) {
+      if (copy_of[std::size_t(i)] < 0) {
+        ++i;
+        continue;
+      }
+      int j = i;
+      while (j + 1 < n && copy_of[std::size_t(j + 1)] >= 0) ++j;
+      bool whole = true;
+      for (int m = i; m <= j; ++m) whole = whole && whole_slab(m) && m > 0 && m < n - 1;
+      if (whole && lacks_all_along(double(i), double(j + 1), Lack::wall_between_ends, &lacked))
+        for (int m = i; m <= j; ++m) gap[std::size_t(m)] = 1, copy_of[std::size_t(m)] = -1;
+      i = j + 1;
+    }
+    const bool gaps = std::find(gap.begin(), gap.end(), 1) != gap.end();
     // Whole slabs that are no copies leave the axis undecided when they are three, or two of which one is
     // inside the model: two end slabs are the model's two ends, which the anchored ends and end caps keep
     // (docs/method.md 2.3, 3). `first`: the first whole slab (they are consecutive), -1 for none.
@@ -382,7 +473,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       int plain_middle = -1;  // B of an A B A whose B repeats
       for (int i = 0; i < n; ++i)
         for (int j = i + 2; j < n; ++j) {
-          if (!copies(i, j) || plain_alone(i)) continue;
+          if (gap[std::size_t(i)] || gap[std::size_t(j)] || !copies(i, j) || plain_alone(i)) continue;
           decided = decided && j > i + 2 &&
                     std::find(far.begin(), far.end(), std::pair<int, int>{i - 1, j - 1}) == far.end();
           far.push_back({i, j});
@@ -441,6 +532,27 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         s.plain_middle[std::size_t(a)] = true;
       }
     }
+    if (gaps) {
+      // What else repeats must have the surface the gaps lack: some sample of it, moved to some place inside a
+      // slab that repeats, lands on the surface. Otherwise (the runs of slats either side of a rail, which both
+      // lack the rail's face) the gaps were no gaps, and the reading is as without them.
+      bool others_have = false;
+      for (int i = 0; i < n && !others_have; ++i) {
+        if (copy_of[std::size_t(i)] < 0) continue;
+        const double u0 = std::max(double(i), lo_cmp), u1 = std::min(double(i + 1), hi_cmp);
+        for (const std::size_t k : lacked) {
+          for (double u = u0 + 0.5 * lack_step; u < u1 && !others_have; u += lack_step)
+            others_have = !off_surface(k, u - canonical[k][a]);
+          if (others_have) break;
+        }
+      }
+      const bool none = std::count(copy_of.begin(), copy_of.end(), -1) == n;
+      if (none || !others_have) {  // the gaps are what repeats
+        copy_of = next_door;
+        s.far_copies[std::size_t(a)] = s.plain_middle[std::size_t(a)] = false;
+        s.gap_run[std::size_t(a)] = none;
+      }
+    }
     if (std::count(copy_of.begin(), copy_of.end(), -1) == n) {  // nothing repeats
       const WholeSlabs whole = whole_slabs();
       s.undecided[std::size_t(a)] = whole.undecided();
@@ -470,7 +582,15 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
           }
         }
       }
-      if (std::count(copy_of.begin(), copy_of.end(), -1) == n) continue;
+      if (std::count(copy_of.begin(), copy_of.end(), -1) == n) {
+        // Nothing repeats, and the axis is not undecided: one whole slab between the end planes, or two at the
+        // ends. A resize copies a whole slab inside the model; where one lacks all along a wall both sides
+        // share (a 3-column box header's notch between its end planes, the front wall in the end cells), it may
+        // be a gap in one part (docs/method.md 2.10, A gap is no repeat): warned.
+        for (int i = 1; i + 1 < n && !s.undecided[std::size_t(a)] && !s.gap_run[std::size_t(a)]; ++i)
+          s.gap_run[std::size_t(a)] = whole_slab(i) && lacks_all_along(double(i), double(i + 1), Lack::wall, nullptr);
+        continue;
+      }
     }
     // A slab that repeats next door is periodic. One that does not may still be a copy of a periodic one
     // farther away (a box header's plain column beside the shroud's end, whose neighbour has the notch).
@@ -641,11 +761,8 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     // over its periodic part, which matches its neighbour by construction, so that, those aside, the whole
     // slabs between the end planes are as many as would leave the axis undecided (three, or two of which one is
     // not an end slab) and none is a copy of another; and the model's two sides of the run of repeating slabs
-    // share a surface the run lacks all along: a sample on one side, on a surface along a (a wall's face, not
-    // an end's), moved to every place inside the run one sample spacing apart, lands off the surface, and
-    // moved to some place on the other side lands on it (a shroud's front wall at both ends, and the notch
-    // between them all along the run; not the narrow gap between two drawer fronts, which a move by part of a
-    // period puts on a front). The run may then be a gap in one part, not a repeat.
+    // share a surface the run lacks all along (lacks_all_along, over the whole model). The run may then be a
+    // gap in one part, not a repeat.
     const auto partial = [&](int i) { return (i == 0 && low_partial) || (i == n - 1 && high_partial); };
     bool through_end = false, whole_copies = false;
     int r0 = n, r1 = -1;  // the run of repeating slabs
@@ -654,23 +771,14 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       if (j >= 0 && j != i) (partial(i) || partial(j) ? through_end : whole_copies) = true;
       if (j >= 0) r0 = std::min(r0, i), r1 = std::max(r1, i + 1);
     }
-    if (through_end && !whole_copies && whole_slabs().undecided()) {
-      const double t0 = std::max(double(r0), lo_cmp), t1 = std::min(double(r1), hi_cmp);  // the run's range
-      const Eigen::Vector3d along = v.normalized();
-      const double step = std::max(s.spacing[a], 1e-3);
-      const auto shared_lack = [&](std::size_t k) {
-        const double t = canonical[k][a];
-        // Along a: the normal at least 60 degrees from it (not an end's face, nor a chamfer's at 45 degrees).
-        if (std::abs(normals[k].dot(along)) > 0.5 || (t >= t0 && t < t1)) return false;
-        for (double u = t0 + 0.5 * step; u < t1; u += step)
-          if (!off_surface(k, u - t)) return false;
-        const double o0 = t < t0 ? t1 : m0, o1 = t < t0 ? m1 : t0;  // the other side
-        for (double u = o0 + 0.5 * step; u < o1; u += step)
-          if (!off_surface(k, u - t)) return true;
-        return false;
-      };
-      for (std::size_t k = 0; k < points.size() && !s.end_read[std::size_t(a)]; ++k)
-        s.end_read[std::size_t(a)] = shared_lack(k);
+    // With one whole slab only, the run's reach is the evidence: the surface it lacks must be a wall it
+    // interrupts (lacks_all_along between the end planes), not the ends' own structure (two pickets between
+    // posts lack the posts' faces all along).
+    if (through_end && !whole_copies) {
+      const WholeSlabs whole = whole_slabs();
+      const double t0 = std::max(double(r0), lo_cmp), t1 = std::min(double(r1), hi_cmp);
+      if (whole.undecided()) s.end_read[std::size_t(a)] = lacks_all_along(t0, t1, Lack::anywhere, nullptr);
+      else if (whole.count == 1) s.end_read[std::size_t(a)] = lacks_all_along(t0, t1, Lack::wall, nullptr);
     }
   }
   return s;

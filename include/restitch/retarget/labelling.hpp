@@ -28,7 +28,8 @@ namespace restitch {
 /// The parts that occur once (`structure`, null for none; docs/method.md 2.10) in a resize by grid steps k:
 /// rep.parts gets each part along a resized axis with the shift that keeps it, rep.warnings a sentence for
 /// a centred part the resize puts farther off the centre than it was (half a period), for an undecided
-/// axis (CellStructure::undecided) and for one read through an end around a gap (CellStructure::end_read).
+/// axis (CellStructure::undecided), for one read through an end around a gap (CellStructure::end_read) and
+/// for one whose cells copied may be a gap in one part (CellStructure::gap_run).
 /// Refused (invalid_argument): a shrink whose parts would not fit apart (parts_fit), saying how many steps
 /// can be removed.
 template <class = void>
@@ -41,6 +42,10 @@ Status plan_parts(const CellStructure* structure, const Eigen::Array3i& k, Retar
       rep.warnings.push_back({"undecided axis", "no two neighbouring cells along axis " + axis + " are copies of one another, so what "
                              "occurs once along it was not decided: look at the result (its period may be wrong: "
                              "give it with --offsets)"});
+    if (structure->gap_run[std::size_t(a)])
+      rep.warnings.push_back({"short repeat", "the cells a resize along axis " + axis + " copies lack, all along them, a wall "
+                             "the model has on both sides of them, and nothing else repeats: they may be a gap in one part, like "
+                             "a key notch over several pins, taken as repeating: look at the result"});
     if (structure->end_read[std::size_t(a)])
       rep.warnings.push_back({"short repeat", "the cells found to repeat along axis " + axis + " are copies only through an end cell "
                              "(no two whole cells are), and a surface both ends have is missing all along them: they may be a "
