@@ -105,22 +105,36 @@ void check_resized_to(Retargeter<>& r, const Family& f, const std::string& name,
   check_in_place(out->mesh, families::generate(name, params)->mesh);
 }
 
+// Whether report r holds a warning of check `check`.
+bool has_warning(const RetargetReport& r, const std::string& check) {
+  return std::any_of(r.warnings.begin(), r.warnings.end(), [&](const ResultWarning& w) { return w.check == check; });
+}
+
+// A 3-column box header (lengths `at`, analysed as f) resized to 2 and 5 columns: warned `short repeat`, and the
+// result is indeed not the header at that count.
+void check_three_columns_warned(Retargeter<>& r, const Family& f, std::map<std::string, double> at) {
+  for (const int m : {2, 5}) {
+    INFO("3 columns to " << m);
+    auto out = r.retarget(family_steps(f, m - 3));
+    REQUIRE(out.ok());
+    CHECK(has_warning(out->report, "short repeat"));
+    at["columns"] = m;
+    const Mesh truth = families::generate("box_header", at)->mesh;
+    const double size = bounding_box(truth).size().norm();
+    CHECK(test::symmetric_surface_distance(out->mesh, truth, 0.004 * size) > 0.01 * size);
+  }
+}
+
 // Whether `r` grown by two steps along lattice axis a is warned with `check`.
 bool grown_warned(Retargeter<>& r, int a, const std::string& check) {
   Eigen::Array3i steps = Eigen::Array3i::Zero();
   steps[a] = 2;
   auto out = r.retarget(steps);
   REQUIRE(out.ok());
-  for (const ResultWarning& w : out->report.warnings)
-    if (w.check == check) return true;
-  return false;
+  return has_warning(out->report, check);
 }
 
-bool centred_part_warned(const RetargetReport& r) {
-  for (const ResultWarning& w : r.warnings)
-    if (w.check == "part off centre") return true;
-  return false;
-}
+bool centred_part_warned(const RetargetReport& r) { return has_warning(r, "part off centre"); }
 
 }  // namespace
 
@@ -919,25 +933,13 @@ TEST_CASE("structure: copies read through an end only, beside whole cells that d
                                    {"height", 10.7923},     {"base", 2.09999},       {"wall", 0.643593},
                                    {"notch_width", 5.06486}, {"pin_size", 0.549977}, {"pin_above", 5.14897},
                                    {"pin_below", 2.37068},  {"columns", 3}};
-  const auto warned = [](const RetargetReport& r) {
-    return std::any_of(r.warnings.begin(), r.warnings.end(), [](const ResultWarning& w) { return w.check == "short repeat"; });
-  };
   const Family three = make("box_header", at);
   REQUIRE(three.axis >= 0);
   Retargeter<> r3(three.sample.mesh, three.analysis);
   REQUIRE(r3.structure());
   CHECK(r3.structure()->end_read[std::size_t(three.axis)]);
   CHECK_FALSE(r3.structure()->undecided[std::size_t(three.axis)]);
-  for (const int m : {2, 5}) {
-    INFO("3 columns to " << m);
-    auto out = r3.retarget(family_steps(three, m - 3));
-    REQUIRE(out.ok());
-    CHECK(warned(out->report));
-    at["columns"] = m;  // and the result is indeed not the header at m columns
-    const Mesh truth = families::generate("box_header", at)->mesh;
-    const double size = bounding_box(truth).size().norm();
-    CHECK(test::symmetric_surface_distance(out->mesh, truth, 0.004 * size) > 0.01 * size);
-  }
+  check_three_columns_warned(r3, three, at);
   // Not read through an end, and grown from n by 2 to the family at n + 2, not warned.
   const auto plain = [&](const Family& f, const std::string& name, const std::map<std::string, double>& params, int n) {
     REQUIRE(f.axis >= 0);
@@ -946,7 +948,7 @@ TEST_CASE("structure: copies read through an end only, beside whole cells that d
     CHECK_FALSE(r.structure()->end_read[std::size_t(f.axis)]);
     auto grown = r.retarget(family_steps(f, 2));
     REQUIRE(grown.ok());
-    CHECK_FALSE(warned(grown->report));
+    CHECK_FALSE(has_warning(grown->report, "short repeat"));
     check_resized_to(r, f, name, params, n, n + 2);
   };
   at["columns"] = 5;
@@ -980,9 +982,6 @@ TEST_CASE("structure: a run of columns inside a key notch is no repeat where col
                                    {"notch_width", 5.5701200229196122}, {"pin_size", 0.76525363899654497},
                                    {"pin_above", 4.5341249612603578},  {"pin_below", 3.7014747431807757},
                                    {"columns", 7}};
-  const auto warned = [](const RetargetReport& r) {
-    return std::any_of(r.warnings.begin(), r.warnings.end(), [](const ResultWarning& w) { return w.check == "short repeat"; });
-  };
   const Family seven = make("box_header", at);
   REQUIRE(seven.axis >= 0);
   CHECK(seven.analysis.principal_model_units()[std::size_t(seven.axis)].norm() == Approx(1.8821).epsilon(1e-4));
@@ -1005,16 +1004,7 @@ TEST_CASE("structure: a run of columns inside a key notch is no repeat where col
   Retargeter<> r3(three.sample.mesh, three.analysis);
   REQUIRE(r3.structure());
   CHECK(r3.structure()->gap_run[std::size_t(three.axis)]);
-  for (const int m : {2, 5}) {
-    INFO("3 columns to " << m);
-    auto out = r3.retarget(family_steps(three, m - 3));
-    REQUIRE(out.ok());
-    CHECK(warned(out->report));
-    at["columns"] = m;  // and the result is indeed not the header at m columns
-    const Mesh truth = families::generate("box_header", at)->mesh;
-    const double size = bounding_box(truth).size().norm();
-    CHECK(test::symmetric_surface_distance(out->mesh, truth, 0.004 * size) > 0.01 * size);
-  }
+  check_three_columns_warned(r3, three, at);
   // Two more 3-column headers whose notch reaches past the outer pins: one whole cell between the end planes.
   // Set 95 (notch 2.02 pitches): no cell is a copy of another, and the whole one, copied by a resize, lacks the
   // front wall both ends have (gap_run). Set 28 (2.19 pitches): the end cell, compared over its periodic part, is
@@ -1038,12 +1028,8 @@ TEST_CASE("structure: a run of columns inside a key notch is no repeat where col
     REQUIRE(r.structure());
     CHECK(r.structure()->cells[f.axis] == 3);
     CHECK((set == &set95 ? r.structure()->gap_run : r.structure()->end_read)[std::size_t(f.axis)]);
-    for (const int m : {2, 5}) {
-      INFO("notch " << p["notch_width"] << ", 3 columns to " << m);
-      auto out = r.retarget(family_steps(f, m - 3));
-      REQUIRE(out.ok());
-      CHECK(warned(out->report));
-    }
+    INFO("notch " << p["notch_width"]);
+    check_three_columns_warned(r, f, p);
   }
   // Two pickets between posts, two modules of a railing between posts: each one whole cell, read through an
   // end, and the run lacks the posts' faces all along; a post is narrower than the pitch, no wall. Not warned.
