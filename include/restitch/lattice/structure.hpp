@@ -382,11 +382,12 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         // Along a: the normal at least 60 degrees from it (not an end's face, nor a chamfer's at 45 degrees).
         if (std::abs(normals[k].dot(along)) > 0.5 || (t >= t0 && t < t1)) continue;
         if (between_ends && (t < lo_cmp || t >= hi_cmp)) continue;
+        const bool below = t < t0;
+        if (wall && (below ? t - m0 : m1 - t) < 1) continue;  // a wall at least a period long on its side
         bool lacked = true;
         for (double u = t0 + 0.5 * lack_step; u < t1 && lacked; u += lack_step) lacked = off_surface(k, u - t);
         if (!lacked) continue;
-        const bool below = t < t0;
-        if (wall && ((below ? t - m0 : m1 - t) < 1 || !(below ? unbroken(k, m0, t) : unbroken(k, t, m1)))) continue;
+        if (wall && !(below ? unbroken(k, m0, t) : unbroken(k, t, m1))) continue;
         const double o0 = below ? t1 : m0, o1 = below ? m1 : t0;  // the other side
         bool shared = false;
         if (wall) {
@@ -772,8 +773,8 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       if (j >= 0) r0 = std::min(r0, i), r1 = std::max(r1, i + 1);
     }
     // With one whole slab only, the run's reach is the evidence: the surface it lacks must be a wall it
-    // interrupts (lacks_all_along between the end planes), not the ends' own structure (two pickets between
-    // posts lack the posts' faces all along).
+    // interrupts (lacks_all_along, Lack::wall), not the ends' own structure (two pickets between posts
+    // narrower than their pitch lack the posts' faces all along).
     if (through_end && !whole_copies) {
       const WholeSlabs whole = whole_slabs();
       const double t0 = std::max(double(r0), lo_cmp), t1 = std::min(double(r1), hi_cmp);
