@@ -604,6 +604,17 @@ bool copies_off_multiple(const CellStructure& s, int a, int m) {
   return false;
 }
 
+/// Whether two neighbouring slabs along lattice axis a are copies, not read through an end (CellStructure::
+/// end_read: the model's end lacking all along a wall its other end has): a repeat next door.
+template <class = void>
+bool copies_next_door(const CellStructure& s, int a) {
+  const std::vector<int>& c = s.copy_of[std::size_t(a)];
+  if (s.end_read[std::size_t(a)]) return false;
+  for (int i = 0; i + 1 < int(c.size()); ++i)
+    if (c[std::size_t(i)] == i + 1 || c[std::size_t(i + 1)] == i) return true;
+  return false;
+}
+
 /// Whether a part along lattice axis a inside the model (holding no end slab) is a copy of another part
 /// (SingularPart::repeated): content that recurs, which a period that makes it a part has missed (1.12).
 template <class = void>
@@ -788,14 +799,19 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       // A shorter repeat found on its own (the matching voted for it, or the shaping vertices repeat at it)
       // is another repeat, not t cut finer, so no end falls differently: it covers at least what t's copies
       // did, and where t's cells are no copies (t is two copies: each whole slab is an end) at least half of
-      // the length t's lattice spans, as two copies must make up half the model (1.13). It may make a part
-      // of the one boundary between t's two copies (the rail between two runs), no more; and no part may
-      // occur twice: from three copies of t on, what lies between them recurs and t is the module (so too a
-      // tessellation's step across a bookshelf's columns, whose dividers fall at a different phase in each
+      // the length t's lattice spans, as two copies must make up half the model (1.13); but where t's slabs
+      // were compared and none is a copy (nothing repeats along t), t covers nothing, and neighbouring
+      // copies are more (a 5-slat shutter read as two slats with the rail, three cells all
+      // different); copies farther apart are not (a lag of a rail's height, or of a pin's width, makes two
+      // cells alike far apart, each a rail's or a pin's edges: no repeat of what lies between). It may make
+      // a part of the one boundary between t's two copies (the rail between two runs), no more; and no part
+      // may occur twice: from three copies of t on, what lies between them recurs and t is the module (so too
+      // a tessellation's step across a bookshelf's columns, whose dividers fall at a different phase in each
       // of its cells and are no copies slab for slab, which the count catches).
       const bool covers = got >= have - t.norm() / a.normalization.scale;
       const double spans = a.lattice.cells[k] * t.norm() / a.normalization.scale;
-      const bool covers_more = have > 0 ? got >= have : got >= 0.5 * spans;
+      const bool compared = structure_unread(st, k) == Unread::nothing_repeats;  // t's slabs compared, none alike
+      const bool covers_more = have > 0 ? got >= have : compared ? copies_next_door(there, k) : got >= 0.5 * spans;
       if (!(got > 0) ||
           (f < 0 && (!covers || !copies_off_multiple(there, k, -f) || inner_parts(there, k) > inner_parts(st, k))) ||
           (f == 0 && (!covers_more || repeated_inner_part(there, k) || inner_parts(there, k) > inner_parts(st, k) + 1)))
