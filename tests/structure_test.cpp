@@ -105,6 +105,19 @@ void check_resized_to(Retargeter<>& r, const Family& f, const std::string& name,
   check_in_place(out->mesh, families::generate(name, params)->mesh);
 }
 
+// The family `name` at `params` (n modules) has its period along its repeat within `tol` of `period` (a
+// share of it), and is resized in place to each count of `to`. The family, for further checks.
+Family check_period_and_resizes(const std::string& name, const std::map<std::string, double>& params, double period,
+                                double tol, int n, std::initializer_list<int> to) {
+  Family f = make(name, params);
+  REQUIRE(f.axis >= 0);
+  CHECK(std::abs(f.analysis.lattice.A.col(f.axis).norm() - period) < tol * period);
+  Retargeter<> r(f.sample.mesh, f.analysis);
+  REQUIRE(r.status().ok());
+  for (const int m : to) check_resized_to(r, f, name, params, n, m);
+  return f;
+}
+
 // Whether report r holds a warning of check `check`.
 bool has_warning(const RetargetReport& r, const std::string& check) {
   return std::any_of(r.warnings.begin(), r.warnings.end(), [&](const ResultWarning& w) { return w.check == check; });
@@ -1090,12 +1103,7 @@ TEST_CASE("analysis: a divisor whose copies lie only at multiples of the period 
                                    {"height", 10.3716},      {"base", 2.27809},       {"wall", 0.820945},
                                    {"notch_width", 4.38109}, {"pin_size", 0.557539},  {"pin_above", 6.95753},
                                    {"pin_below", 3.58871},   {"columns", 5}};
-  const Family f = make("box_header", at);
-  REQUIRE(f.axis >= 0);
-  CHECK(std::abs(f.analysis.lattice.A.col(f.axis).norm() - at["pitch"]) < 1e-3 * at["pitch"]);
-  Retargeter<> r(f.sample.mesh, f.analysis);
-  REQUIRE(r.status().ok());
-  for (const int m : {4, 7}) check_resized_to(r, f, "box_header", at, 5, m);
+  check_period_and_resizes("box_header", at, at["pitch"], 1e-3, 5, {4, 7});
   // The rule on its own: copies at a shift of no multiple of m cells, and only those, prove t / m.
   CellStructure s;
   s.cells = Eigen::Array3i(15, 1, 1);
@@ -1165,18 +1173,13 @@ TEST_CASE("analysis: a period whose slabs are compared and none is a copy gives 
                                                 {"width", 0.547725},   {"stile", 0.0413896},
                                                 {"rail", 0.0473642},   {"slat_thickness", 0.00820771}};
   const double pitch = params.at("pitch"), rail = params.at("rail");
-  const Family f = make("shutter", params);
-  REQUIRE(f.axis >= 0);
-  CHECK(std::abs(f.analysis.lattice.A.col(f.axis).norm() - pitch) < 1e-4 * pitch);
+  const Family f = check_period_and_resizes("shutter", params, pitch, 1e-4, 5, {4, 6, 7});
   const int source = f.analysis.axes.source[std::size_t(f.axis)];
   REQUIRE(source >= 0);
   bool recorded = false;
   for (const OffsetTest& t : f.analysis.dominant[std::size_t(source)].tests)
     recorded = recorded || (t.name == "structure_shorter" && t.passed && std::abs(t.value - (2 * pitch + rail) / pitch) < 1e-3);
   CHECK(recorded);
-  Retargeter<> r(f.sample.mesh, f.analysis);
-  REQUIRE(r.status().ok());
-  for (const int m : {4, 6, 7}) check_resized_to(r, f, "shutter", params, 5, m);
   // Copies far apart are not enough: a 3-pin DIP (`--seeds 1..120`, set 34) whose vertices also repeat at its
   // pins' width makes two cells alike seven apart on that lag, each a pin's edge; taken, it left the pitch,
   // and the resize to 5 pins opened 252 edges. The pitch stays, and the resizes are the family's.
@@ -1184,12 +1187,7 @@ TEST_CASE("analysis: a period whose slabs are compared and none is a copy gives 
                                        {"width", 6.08518},  {"height", 3.19657},   {"row", 1.9023},
                                        {"marker_x", 0.520504}, {"marker_width", 0.813356}, {"marker_depth", 0.0945004},
                                        {"pin_size", 0.592868}, {"pin_below", 3.45217}};
-  const Family d = make("dip", dip);
-  REQUIRE(d.axis >= 0);
-  CHECK(std::abs(d.analysis.lattice.A.col(d.axis).norm() - dip["pitch"]) < 1e-4 * dip["pitch"]);
-  Retargeter<> rd(d.sample.mesh, d.analysis);
-  REQUIRE(rd.status().ok());
-  for (const int m : {2, 5}) check_resized_to(rd, d, "dip", dip, 3, m);
+  check_period_and_resizes("dip", dip, dip["pitch"], 1e-4, 3, {2, 5});
   CellStructure s;  // the rule on its own
   s.cells = Eigen::Array3i(7, 1, 1);
   s.copy_of[0] = {-1, 5, -1, -1, -1, 1, -1};  // far apart
