@@ -617,6 +617,23 @@ std::vector<std::string> count_families() {
   return {only_family};
 }
 
+// The families of sections 7 and 8, and variants: a family with integer parameters other than its defaults
+// (the connector with a one-piece housing, `--one_piece 1`: outer faces tessellated over the whole length, as
+// a CAD export).
+struct Variant {
+  std::string label, name;
+  std::map<std::string, double> params;
+};
+
+std::vector<Variant> count_variants() {
+  std::vector<Variant> list;
+  for (const std::string& name : count_families()) {
+    list.push_back({name, name, {}});
+    if (name == "connector") list.push_back({"connector_one_piece", name, {{"one_piece", 1}}});
+  }
+  return list;
+}
+
 // Section 7: each family at n = 2..10 modules resized to the size of the family at every other count m along
 // the repeat (the nearest whole periods, Retargeter::retarget_to_size), compared in place with the family
 // generated at m. One letter per resize: '.' exact in place and no more open boundary than the
@@ -626,18 +643,24 @@ std::vector<std::string> count_families() {
 // family's repeat at n (a candidate is used as `restitch resize --size` uses it).
 void bench_counts(nlohmann::json& out) {
   std::printf("\n== every count to every other (n = 2..10 modules, rows: from n, columns: to m)\n");
-  for (const std::string& name : count_families()) {
+  for (const Variant& row_of : count_variants()) {
+    const std::string& name = row_of.name;
     const std::string count = families::generate(name)->count_parameters[0];
     Tally tally;
     nlohmann::json rows = nlohmann::json::array();
-    std::printf("%s (%s):\n", name.c_str(), count.c_str());
+    std::printf("%s (%s):\n", row_of.label.c_str(), count.c_str());
+    const auto at = [&](int n) {
+      std::map<std::string, double> q = row_of.params;
+      q[count] = n;
+      return q;
+    };
     for (int n = 2; n <= 10; ++n) {
-      Prepared p = prepare(name, {{count, n}});
+      Prepared p = prepare(name, at(n));
       std::optional<Retargeter<>> r;
       if (p.axis >= 0) r.emplace(p.sample->mesh, *p.analysis);
       std::string row;
       for (int m = 2; m <= 10; ++m) {
-        const char c = m == n ? '-' : p.axis < 0 ? 'A' : judge(*r, *p.sample, families::generate(name, {{count, m}})->mesh, tally);
+        const char c = m == n ? '-' : p.axis < 0 ? 'A' : judge(*r, *p.sample, families::generate(name, at(m))->mesh, tally);
         if (m != n) ++tally.letters[c];
         row += c;
       }
@@ -645,8 +668,8 @@ void bench_counts(nlohmann::json& out) {
       rows.push_back(row);
     }
     print_tally(tally);
-    out["counts"][name] = tally_json(tally);
-    out["counts"][name]["rows"] = rows;
+    out["counts"][row_of.label] = tally_json(tally);
+    out["counts"][row_of.label]["rows"] = rows;
   }
 }
 
@@ -655,25 +678,28 @@ void bench_counts(nlohmann::json& out) {
 // each generated at 3, 5 and 7 modules and resized to the size of the family at n - 1 and n + 2 modules, judged
 // as in section 7. A set the family refuses at a count (parameters that do not fit together) is skipped there.
 // Every result that is not exact, or exact and warned, is printed with its parameters, for `restitch sample`.
+// The variants of section 7 too, their integer parameters kept.
 unsigned seed_first = 1, seed_last = 6;  // --seeds FIRST..LAST: section 8's parameter sets
 
 void bench_parameters(nlohmann::json& out) {
   std::printf("\n== other parameters (sets %u..%u of lengths within 0.7..1.3 of the defaults; from 3, 5, 7 modules to n - 1, "
               "n + 2)\n",
               seed_first, seed_last);
-  for (const std::string& name : count_families()) {
+  for (const Variant& variant : count_variants()) {
+    const std::string& name = variant.name;
     families::SampleInfo info;
     for (const families::SampleInfo& i : families::catalog())
       if (i.name == name) info = i;
     const std::string count = families::generate(name)->count_parameters[0];
     Tally tally;
     int skipped = 0;
-    std::printf("%s:\n", name.c_str());
+    std::printf("%s:\n", variant.label.c_str());
     for (unsigned seed = seed_first; seed <= seed_last; ++seed) {
       std::mt19937 rng(seed);
       std::uniform_real_distribution<double> factor(0.7, 1.3);
-      std::map<std::string, double> params;
+      std::map<std::string, double> params = variant.params;
       std::string args;
+      for (const auto& [q, x] : variant.params) args += " --" + q + " " + std::to_string(int(x));
       for (const families::Parameter& q : info.parameters) {
         if (q.integer) continue;
         params[q.name] = std::clamp(q.value * factor(rng), q.min, q.max);
@@ -705,8 +731,8 @@ void bench_parameters(nlohmann::json& out) {
       }
     }
     print_tally(tally);
-    out["parameters"][name] = tally_json(tally);
-    out["parameters"][name]["skipped"] = skipped;
+    out["parameters"][variant.label] = tally_json(tally);
+    out["parameters"][variant.label]["skipped"] = skipped;
   }
 }
 

@@ -86,6 +86,8 @@ class SampleMeshBuilder {
     block_ = {block0, block1};
   }
 
+  /// The longest edge a patch keeps uncut (model units).
+  double cell() const { return cell_; }
   std::uint64_t triangle_count() const { return triangles_; }
   std::uint64_t vertex_count() const { return vertices_; }
 

@@ -20,7 +20,8 @@
 //   box_header      a shrouded two-row header, a key notch centred.         mm
 //   cabinet         short drawers over one tall drawer.                     m
 //   connector       a housing reaching past pin 1 (at the origin), a key,
-//                   a back-wall slot next to each end.                      mm
+//                   a back-wall slot next to each end; `one_piece`: the
+//                   housing's faces whole over its length (as CAD).        mm
 //   dip             a dual in-line package: two rows of pins under one
 //                   body, a pin-1 dimple reaching into the gap after pin 1. mm
 //   radiator        sections, a valve under one of them; `drift` grows the

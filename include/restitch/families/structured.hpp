@@ -78,7 +78,10 @@ void pin_down(restitch::detail::SampleMeshBuilder& B, double x, double z, double
 // (the start cap is its own cell). A module: the housing's box (y in [0, height], z in [-depth/2,
 // depth/2]) with a square mating opening over its pin, the pin below. The first and the last module have a
 // slot in the back wall (parts that occur once, kept next to their ends); the start cap carries a
-// polarisation key on its back face.
+// polarisation key on its back face. With `one_piece`, the housing's outer faces (front, back, top, bottom,
+// ends) run whole from end to end, each tessellated evenly over its length as a CAD export is, so no vertex
+// of them lies on the pitch except around the openings and slots (the openings, slots and pins stay per pin):
+// the copies pair only where the pins are.
 
 inline SampleInfo connector_info() {
   return {"connector",
@@ -98,7 +101,10 @@ inline SampleInfo connector_info() {
            {"slot_depth", 0.8, 0.1, 5.0, false, "depth of the back-wall slots (mm)"},
            {"pin_size", 0.64, 0.2, 2.0, false, "side of a pin's square section (mm)"},
            {"pin_below", 3.0, 0.5, 20.0, false, "length of a pin below the housing (mm)"},
-           {"detail", 1, 1, 64, true, "tessellation level: edges are cut every 1 mm / detail"}}};
+           {"detail", 1, 1, 64, true, "tessellation level: edges are cut every 1 mm / detail"},
+           {"one_piece", 0, 0, 1, true,
+            "1: the housing's outer faces run whole from end to end, tessellated evenly over the length as a CAD "
+            "export is (no vertex on the pitch but around the openings and slots); 0: one block per pin"}}};
 }
 
 template <class = void>
@@ -134,8 +140,95 @@ void connector_build(const ParameterValues& v, restitch::detail::SampleMeshBuild
   out.parts = {{0, 0, 0, "low end", "back-wall slot next to pin 1"}};
   if (n > 1) out.parts.push_back({0, n - 1, n - 1, "high end", "back-wall slot next to the last pin"});
   const double tip = std::min(0.3 * v["pin_size"], 0.4 * below);
+  const bool one_piece = v.count("one_piece") == 1;
+  const double c0 = p / 2 - o / 2, c1 = p / 2 + o / 2;                             // an opening, in its block
+  const double s0 = p / 2 - sw / 2, s1 = p / 2 + sw / 2, y0 = (H - sh) / 2, y1 = y0 + sh, zb = -D / 2 + sd;  // a slot
+  if (one_piece) {
+    // The housing's outer faces, their openings' and slots' walls and floors, in the start cap's block (x from
+    // the housing's end): every face on one grid of break lines, so faces meet edge to edge and the housing is
+    // closed. The breaks along each axis are the face's length cut evenly (cells at most the builder's cell
+    // long, as a patch is cut) and the openings' and slots' edges; along x the even cuts run over the whole
+    // length, so they fall on the pitch only by chance.
+    B.set_material(plastic);
+    B.set_block(Vec3(-wall, 0, 0), -1);
+    const double L = (n - 1) * p + 2 * wall, near = 1e-6;
+    const auto x_of = [&](int pin, double in_block) { return wall - p / 2 + pin * p + in_block; };  // block-local
+    const auto even = [&](double a, double b) {
+      std::vector<double> out;
+      const int k = std::max(1, int(std::ceil((b - a) / B.cell() - 1e-9)));
+      for (int i = 0; i <= k; ++i) out.push_back(i == k ? b : a + (b - a) * i / k);
+      return out;
+    };
+    // Breaks: the even cuts of [a, b] with the features' edges (an even cut within `near` of one gives way).
+    const auto breaks = [&](double a, double b, std::vector<double> features) {
+      std::vector<double> out = features;
+      for (const double t : even(a, b))
+        if (std::none_of(features.begin(), features.end(), [&](double f) { return std::abs(f - t) < near; }))
+          out.push_back(t);
+      std::sort(out.begin(), out.end());
+      return out;
+    };
+    const auto within = [&](const std::vector<double>& b, double lo, double hi) {
+      std::vector<double> out;
+      for (const double t : b)
+        if (t >= lo - near && t <= hi + near) out.push_back(t);
+      return out;
+    };
+    std::vector<double> fx{0, L};
+    for (int i = 0; i < n; ++i) {
+      fx.insert(fx.end(), {x_of(i, c0), x_of(i, c1)});
+      if (i == 0 || i == n - 1) fx.insert(fx.end(), {x_of(i, s0), x_of(i, s1)});
+    }
+    const std::vector<double> xs = breaks(0, L, fx), ys = breaks(0, H, {0, y0, y1, H}),
+                              zs = breaks(-D / 2, D / 2, {-D / 2, -o / 2, o / 2, D / 2});
+    const auto in_opening = [&](double x, double z) {
+      for (int i = 0; i < n; ++i)
+        if (x > x_of(i, c0) && x < x_of(i, c1) && z > -o / 2 && z < o / 2) return true;
+      return false;
+    };
+    const auto in_slot = [&](double x, double y) {
+      for (const int i : {0, n - 1})
+        if (x > x_of(i, s0) && x < x_of(i, s1) && y > y0 && y < y1) return true;
+      return false;
+    };
+    // A face on the grid us x vs (as face(): the plane `at` along `axis`), leaving out the cells `hole` says.
+    const auto grid = [&](int axis, bool positive, double at, const std::vector<double>& us,
+                          const std::vector<double>& vs, const auto& hole) {
+      for (std::size_t i = 0; i + 1 < us.size(); ++i)
+        for (std::size_t j = 0; j + 1 < vs.size(); ++j)
+          if (!hole(0.5 * (us[i] + us[i + 1]), 0.5 * (vs[j] + vs[j + 1])))
+            face(B, axis, positive, at, us[i], us[i + 1], vs[j], vs[j + 1]);
+    };
+    const auto none = [](double, double) { return false; };
+    grid(1, false, 0, xs, zs, none);        // bottom
+    grid(1, true, H, xs, zs, in_opening);   // top
+    grid(2, true, D / 2, xs, ys, none);     // front
+    grid(2, false, -D / 2, xs, ys, in_slot);  // back
+    grid(0, false, 0, ys, zs, none);        // the two ends
+    grid(0, true, L, ys, zs, none);
+    const std::vector<double> yo = breaks(H - od, H, {H - od, H}), zo = within(zs, -o / 2, o / 2);
+    const std::vector<double> yr = within(ys, y0, y1), zr = breaks(-D / 2, zb, {-D / 2, zb});
+    for (int i = 0; i < n; ++i) {  // an opening's walls and floor
+      const std::vector<double> xo = within(xs, x_of(i, c0), x_of(i, c1));
+      grid(0, true, x_of(i, c0), yo, zo, none);
+      grid(0, false, x_of(i, c1), yo, zo, none);
+      grid(2, true, -o / 2, xo, yo, none);
+      grid(2, false, o / 2, xo, yo, none);
+      grid(1, true, H - od, xo, zo, none);
+      if (i != 0 && i != n - 1) continue;
+      const std::vector<double> xr = within(xs, x_of(i, s0), x_of(i, s1));  // a slot's walls and floor
+      grid(0, true, x_of(i, s0), yr, zr, none);
+      grid(0, false, x_of(i, s1), yr, zr, none);
+      grid(1, true, y0, xr, zr, none);
+      grid(1, false, y1, xr, zr, none);
+      grid(2, false, zb, xr, yr, none);
+      if (n == 1) break;
+    }
+    B.box(Vec3(0.2 * e, 1.0, -D / 2 - 0.6), Vec3(0.8 * e, H - 1.0, -D / 2), box_all & ~box_pos_z);  // the key
+  }
   for (int bx = -1; bx <= X.n; ++bx) {
     B.set_material(plastic);
+    if (!X.module(bx) && one_piece) continue;
     if (!X.module(bx)) {
       const bool start = X.start(bx);
       B.set_block(Vec3(start ? -wall : (n - 1) * p + p / 2, 0, 0), bx);
@@ -145,18 +238,21 @@ void connector_build(const ParameterValues& v, restitch::detail::SampleMeshBuild
       continue;
     }
     B.set_block(Vec3(bx * p - p / 2, 0, 0), bx);
-    const double c0 = p / 2 - o / 2, c1 = p / 2 + o / 2;
+    if (one_piece) {  // the housing is built above; the pin alone
+      B.set_material(tin);
+      pin_down(B, p / 2, 0, a, 0, -below, tip);
+      continue;
+    }
     face_with_hole(B, 1, true, H, 0, p, -D / 2, D / 2, c0, c1, -o / 2, o / 2);  // top, around the opening
     face(B, 0, true, c0, H - od, H, -o / 2, o / 2);                              // the opening's walls
     face(B, 0, false, c1, H - od, H, -o / 2, o / 2);
     face(B, 2, true, -o / 2, c0, c1, H - od, H);
     face(B, 2, false, o / 2, c0, c1, H - od, H);
     face(B, 1, true, H - od, c0, c1, -o / 2, o / 2);  // its floor
-    face(B, 1, false, 0, 0, p, -D / 2, D / 2);        // bottom
-    face(B, 2, true, D / 2, 0, p, 0, H);              // front
+    face(B, 1, false, 0, 0, p, -D / 2, D / 2);  // bottom
+    face(B, 2, true, D / 2, 0, p, 0, H);        // front
     const bool slot = bx == 0 || bx == n - 1;
     if (slot) {  // a recess in the back wall
-      const double s0 = p / 2 - sw / 2, s1 = p / 2 + sw / 2, y0 = (H - sh) / 2, y1 = y0 + sh, zb = -D / 2 + sd;
       face_with_hole(B, 2, false, -D / 2, 0, p, 0, H, s0, s1, y0, y1);
       face(B, 0, true, s0, y0, y1, -D / 2, zb);
       face(B, 0, false, s1, y0, y1, -D / 2, zb);
