@@ -907,6 +907,54 @@ TEST_CASE("analysis: two copies that pair vertex for vertex are a principal offs
   }
 }
 
+// A two-pin part as a CAD export makes it: one plain box of a housing (its faces two triangles each, no vertex
+// on the pitch), the pins boxes through it, a key rib at one end. The vertices repeat at the pitch (the pins)
+// and at a pin's width (each pin's sides onto each other). On the width's lattice the slabs alike are the plain
+// housing's, far apart (any lag finds those); no slab is a copy of its neighbour, so it is no repeat (method.md
+// 1.14), and a size along the row uses the pitch: one housing with more pins. Before, the width (0.64, "6
+// copies") was the candidate and the grown part two pins far apart.
+Mesh box_housing_part(int pins) {
+  const double p = 2.5, wall = 2.45, a = 0.32;
+  Mesh m;
+  test::add_box(m, {-wall, 0, -2.5}, {(pins - 1) * p + wall, 6, 2.5});
+  for (int i = 0; i < pins; ++i) {
+    test::add_box(m, {i * p - a, -3, -a}, {i * p + a, 0, a});
+    test::add_box(m, {i * p - a, 6, -a}, {i * p + a, 8, a});
+  }
+  test::add_box(m, {-wall + 0.3, 1, -3.1}, {-wall + 1.0, 5, -2.5});
+  return m;
+}
+
+TEST_CASE("analysis: vertices that repeat inside one part (a pin's width) are no repeat; the pitch of a two-pin "
+          "part with a one-piece housing is the candidate along its row, and grows into one part",
+          "[structure]") {
+  const Mesh two = box_housing_part(2);
+  auto a = analyze(two);
+  REQUIRE(a.ok());
+  const std::vector<int> along = a->candidates_for_axes({{true, false, false}});
+  REQUIRE(along.size() == 1);
+  const Eigen::Vector3d pitch = a->model_units(a->candidates[std::size_t(along[0])]);
+  CHECK(std::abs(pitch.x() - 2.5) < 1e-3);
+  CHECK(pitch.tail<2>().norm() < 1e-3);
+  // No candidate anywhere at the pin's width.
+  for (const RepeatCandidate& c : a->candidates) CHECK(std::abs(a->model_units(c).norm() - 0.64) > 0.01);
+  REQUIRE(promote_offsets(two, AnalysisOptions<>{}, {pitch}, *a).ok());
+  int axis = -1;
+  for (int b = 0; b < 3; ++b)
+    if (!a->lattice.dummy[b] && std::abs(a->lattice.A.col(b).normalized().x()) > std::cos(M_PI / 180)) axis = b;
+  REQUIRE(axis >= 0);
+  Retargeter<> r(two, *a);
+  REQUIRE(r.status().ok());
+  for (const int k : {1, 2, 4}) {
+    INFO("to " << 2 + k << " pins");
+    Eigen::Array3i steps = Eigen::Array3i::Zero();
+    steps[axis] = k;
+    auto out = r.retarget(steps);
+    REQUIRE(out.ok());
+    check_in_place(out->mesh, box_housing_part(2 + k));
+  }
+}
+
 // A pair candidate is a detail of a larger whole as far as its pattern test knows, and a size asked along it is
 // warned "pair" (docs/method.md 2.11). A 3-column facade whose ends hold most of it fails the pattern test at
 // twice the bay (its columns' repeat is a pair candidate, which a size along them promotes), but its structure
@@ -1198,6 +1246,26 @@ TEST_CASE("analysis: a period whose slabs are compared and none is a copy gives 
   CHECK(detail::copies_next_door(s, 0));
   s.end_read[0] = true;  // read through the end: the end lacks a wall the other end has
   CHECK_FALSE(detail::copies_next_door(s, 0));
+}
+
+// The connector with a one-piece housing (`--one_piece 1`), its outer faces tessellated evenly over the whole
+// length. At 7 pins the step is 21.4 / 22 = 0.9727, and the matching's period was three steps, 2.918, on whose
+// lattice no slab is a copy of another (the openings 2.5 apart fall at another phase in each cell): an
+// undecided axis, every resize wrong (warned). Compared and alike nowhere, it gives way to the pitch, whose
+// middle cells are copies next door; the pitch, proposed by the matching, snapped from the detector's start
+// radius slid back to the three steps (more pairs), and is snapped from two end radii (docs/method.md 1.12).
+// `bench --only counts`, connector_one_piece from 7 pins.
+TEST_CASE("analysis: a period alike nowhere on an undecided axis gives way to a shorter repeat with copies next door",
+          "[structure][samples]") {
+  const std::map<std::string, double> at = {{"pins", 7}, {"one_piece", 1}};
+  check_period_and_resizes("connector", at, 2.5, 1e-4, 7, {2, 4, 6, 9});
+  // Every other count of the family has the pitch too, and resizes in place.
+  for (const int n : {3, 5, 8}) {
+    INFO("from " << n);
+    std::map<std::string, double> from = at;
+    from["pins"] = n;
+    check_period_and_resizes("connector", from, 2.5, 1e-4, n, {n - 1, n + 2});
+  }
 }
 
 TEST_CASE("structure: a run of two slats out of phase with the cells repeats, and grows with the other run",

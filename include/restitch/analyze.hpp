@@ -592,6 +592,16 @@ std::ptrdiff_t inner_parts(const CellStructure& s, int a) {
   });
 }
 
+/// The snap for a shorter repeat proposed to replace a period (docs/method.md 1.12): from two end radii, so it
+/// averages the repeat's own exact pairs. From the detector's start radius it can slide to another lag nearby
+/// with more pairs (a housing tessellated evenly every 0.973 over its length: three steps, 2.918, lie 0.418
+/// from a 2.5 pitch, 0.039 normalized), and the repeat would be lost.
+template <class = void>
+SnapOptions lag_snap(SnapOptions snap) {
+  snap.start_radius = std::min(snap.start_radius, 2 * snap.end_radius);
+  return snap;
+}
+
 /// Whether some slab along lattice axis a is a copy of a slab a number of cells away that is no multiple of m:
 /// copies a divisor t / m of the period t proves (1.12). Copies only at multiples of m cells are t's own
 /// copies on a finer grid (a box header's two plain columns around its notch, four pitches apart, are so
@@ -717,8 +727,13 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
     // Copies farther apart decide an axis a multiple of the period may have decided as well: five pitches of a
     // 24-column box header make the cells plain, notch edge, notch, notch edge, plain, whose two plain
     // cells are copies; the pitch itself is a divisor, tried after the multiples.
-    if (!st.undecided[std::size_t(k)]) {
-      for (int m = options.fundamental.max_divisor; m >= 2; --m)
+    // t's slabs compared and none alike, next door or farther: t is no repeat the structure shows (an even
+    // tessellation's step near the pitch, three cuts of a long wall), and a shorter repeat that has copies
+    // is tried whatever the number of t's copies.
+    const bool alike_nowhere = structure_unread(st, k) == Unread::nothing_repeats ||
+                               (st.undecided[std::size_t(k)] && !st.far_copies[std::size_t(k)] && st.cells[k] >= 3);
+    if (!st.undecided[std::size_t(k)] || alike_nowhere) {
+      for (int m = options.fundamental.max_divisor; m >= 2 && !st.undecided[std::size_t(k)]; --m)
         // At least one dense spacing: a slab that thin still holds samples of every surface crossing it (they
         // lie a spacing apart), which the copy test needs; the overlap's bound (fundamental.min_length) is for
         // tests on overlaps, and this one is exact.
@@ -727,10 +742,11 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       // rail, where the run with its rail is t (two copies, or a weak pattern) and the slat pitch is no
       // divisor of it. Parallel: off t's line by less than one dense spacing. Only where t occurs at most
       // twice (the model spans less than three periods): each boundary between copies of t breaks the
-      // shorter repeat's phase and becomes a part of it, and it may add one part at most (below).
+      // shorter repeat's phase and becomes a part of it, and it may add one part at most (below); or where
+      // t's slabs are alike nowhere, which makes no copies of t.
       std::vector<Guess> shorter;
       const Eigen::Vector3d dir = t.normalized();
-      const bool twice = st.extent_high[k] - st.extent_low[k] < 3;
+      const bool shorter_too = st.extent_high[k] - st.extent_low[k] < 3 || alike_nowhere;
       const auto propose = [&](const Eigen::Vector3d& u, int from) {
         const int m = int(std::lround(t.norm() / u.norm()));
         if (m >= 2 && m <= options.fundamental.max_divisor &&
@@ -740,7 +756,7 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
           if ((g.offset - u).norm() <= options.dense_spacing) return;
         shorter.push_back({u, 0, from});
       };
-      for (std::size_t i = 0; twice && i < a.dominant.size(); ++i) {
+      for (std::size_t i = 0; shorter_too && i < a.dominant.size(); ++i) {
         const DominantOffset& d = a.dominant[i];
         const Eigen::Vector3d u = d.offset.dot(dir) < 0 ? Eigen::Vector3d(-d.offset) : d.offset;
         const bool pair = std::any_of(d.tests.begin(), d.tests.end(),
@@ -755,8 +771,8 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       // for the features, 1.1): a slat pitch the matching did not vote for (three slats a run: their pairs
       // are outvoted by the runs'). The four most paired, with as many pairs as a snap needs: each costs a
       // lattice fit and a structure, and the structure's exact test below decides.
-      if (twice && shaping.rows() == 0) shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
-      for (const Eigen::Vector3d& u : twice ? vertex_lags(shaping, t, options.snap.end_radius, options.dense_spacing,
+      if (shorter_too && shaping.rows() == 0) shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
+      for (const Eigen::Vector3d& u : shorter_too ? vertex_lags(shaping, t, options.snap.end_radius, options.dense_spacing,
                                                           options.snap.min_pairs, 4)
                                             : std::vector<Eigen::Vector3d>{})
         propose(u, -1);
@@ -767,7 +783,11 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
     for (const Guess& g : guesses) {
       const int f = g.f;
       const Eigen::Vector3d guess = g.offset;
-      const SnapResult snapped = snap_offset(*vertices, guess, options.snap);
+      SnapResult snapped = snap_offset(*vertices, guess, f == 0 && g.from < 0 ? lag_snap(options.snap) : options.snap);
+      // A shorter repeat the matching found, snapped from the detector's start radius, may slide to another lag
+      // with more pairs (lag_snap); from two end radii it keeps its own pairs, if it has them.
+      if (f == 0 && g.from >= 0 && (snapped.offset - guess).norm() > options.dense_spacing)
+        snapped = snap_offset(*vertices, guess, lag_snap(options.snap));
       // Exactly m t or t / m: t is exact to the snap's end radius, so its multiple or divisor is to (m + 1)
       // of them; the snap's start radius would take whatever pairs nearby (a pin's edge near half a pitch).
       // A shorter repeat the matching found is refined to within a dense spacing (ICP on the samples), one
@@ -810,7 +830,7 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       // of its cells and are no copies slab for slab, which the count catches).
       const bool covers = got >= have - t.norm() / a.normalization.scale;
       const double spans = a.lattice.cells[k] * t.norm() / a.normalization.scale;
-      const bool compared = structure_unread(st, k) == Unread::nothing_repeats;  // t's slabs compared, none alike
+      const bool compared = alike_nowhere;  // t's slabs compared, none alike
       const bool covers_more = have > 0 ? got >= have : compared ? copies_next_door(there, k) : got >= 0.5 * spans;
       if (!(got > 0) ||
           (f < 0 && (!covers || !copies_off_multiple(there, k, -f) || inner_parts(there, k) > inner_parts(st, k))) ||
@@ -931,7 +951,10 @@ Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& o
       // repeat is the model's content along w, not a detail of one part (a handle's grooves), which a size
       // asked along w must not multiply.
       const double between = std::max(fit->lattice.cells[k] - 2, 1) * fit->lattice.A.col(k).norm();
-      if (!(got > 0) || repeated_inner_part(st, k)) continue;
+      // Copies next door: a slab and its neighbour, the lag's own evidence. Slabs alike only far apart are
+      // what any lag finds on a plain stretch (a housing's wall at a pin's width, copies of an end slab's
+      // periodic part), not a repeat of the model's content.
+      if (!(got > 0) || repeated_inner_part(st, k) || !copies_next_door(st, k)) continue;
       DominantOffset d;
       d.offset = d.bin_center = d.unslid = snapped.offset;
       record_test(d.tests, "vertex_lag", double(snapped.pairs), double(options.snap.min_pairs));
