@@ -510,6 +510,20 @@ private:
   std::unique_ptr<CellChains> grid_;  // the unique vertices by cell
 };
 
+/// The normalized positions of the vertices that shape the model (detail::shaping_representatives, equal
+/// positions once); empty when a referenced vertex is not finite.
+template <class = void>
+Eigen::Matrix<double, Eigen::Dynamic, 3> shape_vertices(const Mesh& mesh, const Normalization& norm, bool keep_flat) {
+  std::vector<std::uint32_t> rep, order;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> P(0, 3);
+  if (!detail::merge_equal_positions(mesh, rep, order).ok()) return P;
+  const std::vector<std::uint32_t> reps = detail::shaping_representatives(mesh, rep, order, keep_flat);
+  P.resize(Eigen::Index(reps.size()), 3);
+  for (std::size_t i = 0; i < reps.size(); ++i)
+    P.row(Eigen::Index(i)) = norm.to_normalized(mesh.V.row(reps[i]).transpose().template cast<double>()).transpose();
+  return P;
+}
+
 /// The greedy principal offsets over the promoted offsets (first, in request order) and the
 /// significant ones reduced to fundamentals among themselves, vertex snapping, the lattice fit, and
 /// the candidates. `vertices`: the unique vertex positions (normalized), or null when offsets are not
@@ -543,10 +557,24 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
   for (int& s : a.axes.source)
     if (s >= 0) s = where[std::size_t(s)];  // PrincipalOffsets::source indexes Analysis::dominant
   a.principal.clear();
+  Eigen::Matrix<double, Eigen::Dynamic, 3> shaping(0, 3);  // shape_vertices, once an axis is snapped
   for (int k = 0; k < a.axes.real_count; ++k) {
     Eigen::Vector3d& axis = a.axes.axes[std::size_t(k)];
-    if (vertices)
-      if (const SnapResult snapped = snap_offset(*vertices, axis, options.snap); snapped.snapped) axis = snapped.offset;
+    if (!vertices) {
+      a.principal.push_back(axis);
+      continue;
+    }
+    // Snapped onto the vertices; where the vertices that shape the model (not those inside flat regions or
+    // straight creases, 1.1) pair at another shift, theirs: a face tessellated evenly over a housing's whole
+    // length repeats at its own step, and a few steps near the pitch pair more of its vertices than the pins
+    // do (0.0067 mm per pin off, under the size check's tolerance: docs/method.md 1.6, Snap).
+    const SnapResult all = snap_offset(*vertices, axis, options.snap);
+    if (shaping.rows() == 0) shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
+    const SnapResult shape = shaping.rows() > 1 && all.snapped ? snap_offset(shaping, axis, options.snap) : SnapResult{};
+    if (shape.snapped && (shape.offset - all.offset).norm() > 2 * options.snap.end_radius)
+      axis = shape.offset;
+    else if (all.snapped)
+      axis = all.offset;
     a.principal.push_back(axis);
   }
   complete_with_dummies(a.axes, options.dummy_length);  // orthogonal to the snapped axes
@@ -558,20 +586,6 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
   a.phase = fit->phase;
   collect_candidates(options.dense_spacing, a);
   return {};
-}
-
-/// The normalized positions of the vertices that shape the model (detail::shaping_representatives, equal
-/// positions once); empty when a referenced vertex is not finite.
-template <class = void>
-Eigen::Matrix<double, Eigen::Dynamic, 3> shape_vertices(const Mesh& mesh, const Normalization& norm, bool keep_flat) {
-  std::vector<std::uint32_t> rep, order;
-  Eigen::Matrix<double, Eigen::Dynamic, 3> P(0, 3);
-  if (!detail::merge_equal_positions(mesh, rep, order).ok()) return P;
-  const std::vector<std::uint32_t> reps = detail::shaping_representatives(mesh, rep, order, keep_flat);
-  P.resize(Eigen::Index(reps.size()), 3);
-  for (std::size_t i = 0; i < reps.size(); ++i)
-    P.row(Eigen::Index(i)) = norm.to_normalized(mesh.V.row(reps[i]).transpose().template cast<double>()).transpose();
-  return P;
 }
 
 /// The model length the repeating slabs along lattice axis a cover (slabs x |v_a|), or -1 when the axis is
