@@ -567,10 +567,12 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
     // Snapped onto the vertices; where the vertices that shape the model (not those inside flat regions or
     // straight creases, 1.1) pair at another shift, theirs: a face tessellated evenly over a housing's whole
     // length repeats at its own step, and a few steps near the pitch pair more of its vertices than the pins
-    // do (0.0067 mm per pin off, under the size check's tolerance: docs/method.md 1.6, Snap).
+    // do (0.0067 mm per pin off, under the size check's tolerance: docs/method.md 1.6, Vertex snapping).
     const SnapResult all = snap_offset(*vertices, axis, options.snap);
-    if (shaping.rows() == 0) shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
-    const SnapResult shape = shaping.rows() > 1 && all.snapped ? snap_offset(shaping, axis, options.snap) : SnapResult{};
+    if (all.snapped && shaping.rows() == 0)
+      shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
+    const SnapResult shape =
+        all.snapped && shaping.rows() > 1 ? snap_offset(shaping, axis, options.snap) : SnapResult{};
     if (shape.snapped && (shape.offset - all.offset).norm() > 2 * options.snap.end_radius)
       axis = shape.offset;
     else if (all.snapped)
