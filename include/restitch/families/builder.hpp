@@ -86,8 +86,11 @@ class SampleMeshBuilder {
     block_ = {block0, block1};
   }
 
-  /// The longest edge a patch keeps uncut (model units).
-  double cell() const { return cell_; }
+  /// The segments an edge of `length` is cut into: max(1, ceil(length / cell)).
+  int segments(double length) const {
+    const double s = std::ceil(length / cell_ - 1e-9);
+    return s < 1 ? 1 : (s > 1e9 ? 1000000000 : static_cast<int>(s));
+  }
   std::uint64_t triangle_count() const { return triangles_; }
   std::uint64_t vertex_count() const { return vertices_; }
 
@@ -259,12 +262,6 @@ class SampleMeshBuilder {
   }
 
  private:
-  template <class = void>
-  int segments(double length) const {
-    const double s = std::ceil(length / cell_ - 1e-9);
-    return s < 1 ? 1 : (s > 1e9 ? 1000000000 : static_cast<int>(s));
-  }
-
   template <class = void>
   static Vec3 face_normal(const Vec3& c) {
     const double l = c.norm();

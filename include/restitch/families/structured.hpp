@@ -143,6 +143,10 @@ void connector_build(const ParameterValues& v, restitch::detail::SampleMeshBuild
   const bool one_piece = v.count("one_piece") == 1;
   const double c0 = p / 2 - o / 2, c1 = p / 2 + o / 2;                             // an opening, in its block
   const double s0 = p / 2 - sw / 2, s1 = p / 2 + sw / 2, y0 = (H - sh) / 2, y1 = y0 + sh, zb = -D / 2 + sd;  // a slot
+  // The polarisation key: a rib on the back face, in the start cap's block.
+  const auto key = [&] {
+    B.box(Vec3(0.2 * e, 1.0, -D / 2 - 0.6), Vec3(0.8 * e, H - 1.0, -D / 2), box_all & ~box_pos_z);
+  };
   if (one_piece) {
     // The housing's outer faces, their openings' and slots' walls and floors, in the start cap's block (x from
     // the housing's end): every face on one grid of break lines, so faces meet edge to edge and the housing is
@@ -155,7 +159,7 @@ void connector_build(const ParameterValues& v, restitch::detail::SampleMeshBuild
     const auto x_of = [&](int pin, double in_block) { return wall - p / 2 + pin * p + in_block; };  // block-local
     const auto even = [&](double a, double b) {
       std::vector<double> out;
-      const int k = std::max(1, int(std::ceil((b - a) / B.cell() - 1e-9)));
+      const int k = B.segments(b - a);  // as a patch's edge is cut
       for (int i = 0; i <= k; ++i) out.push_back(i == k ? b : a + (b - a) * i / k);
       return out;
     };
@@ -222,9 +226,8 @@ void connector_build(const ParameterValues& v, restitch::detail::SampleMeshBuild
       grid(1, true, y0, xr, zr, none);
       grid(1, false, y1, xr, zr, none);
       grid(2, false, zb, xr, yr, none);
-      if (n == 1) break;
     }
-    B.box(Vec3(0.2 * e, 1.0, -D / 2 - 0.6), Vec3(0.8 * e, H - 1.0, -D / 2), box_all & ~box_pos_z);  // the key
+    key();
   }
   for (int bx = -1; bx <= X.n; ++bx) {
     B.set_material(plastic);
@@ -233,8 +236,7 @@ void connector_build(const ParameterValues& v, restitch::detail::SampleMeshBuild
       const bool start = X.start(bx);
       B.set_block(Vec3(start ? -wall : (n - 1) * p + p / 2, 0, 0), bx);
       B.box(Vec3(0, 0, -D / 2), Vec3(e, H, D / 2), box_all & ~(start ? box_pos_x : box_neg_x));
-      if (start)  // the polarisation key: a rib on the back face
-        B.box(Vec3(0.2 * e, 1.0, -D / 2 - 0.6), Vec3(0.8 * e, H - 1.0, -D / 2), box_all & ~box_pos_z);
+      if (start) key();
       continue;
     }
     B.set_block(Vec3(bx * p - p / 2, 0, 0), bx);
