@@ -557,7 +557,9 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
   for (int& s : a.axes.source)
     if (s >= 0) s = where[std::size_t(s)];  // PrincipalOffsets::source indexes Analysis::dominant
   a.principal.clear();
-  Eigen::Matrix<double, Eigen::Dynamic, 3> shaping(0, 3);  // shape_vertices, once an axis is snapped
+  const Eigen::Matrix<double, Eigen::Dynamic, 3> shaping =
+      vertices && a.axes.real_count > 0 ? shape_vertices(mesh, a.normalization, options.flat_vertex_features)
+                                        : Eigen::Matrix<double, Eigen::Dynamic, 3>(0, 3);
   for (int k = 0; k < a.axes.real_count; ++k) {
     Eigen::Vector3d& axis = a.axes.axes[std::size_t(k)];
     if (!vertices) {
@@ -565,15 +567,14 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       continue;
     }
     // Snapped onto the vertices; where the vertices that shape the model (not those inside flat regions or
-    // straight creases, 1.1) pair at another shift, theirs: a face tessellated evenly over a housing's whole
-    // length repeats at its own step, and a few steps near the pitch pair more of its vertices than the pins
-    // do (0.0067 mm per pin off, under the size check's tolerance: docs/method.md 1.6, Vertex snapping).
+    // straight creases, 1.1) pair at another shift, or pair where all the vertices do not, theirs: a face
+    // tessellated evenly over a housing's whole length repeats at its own step, and a few steps near the
+    // pitch pair more of its vertices than the pins do (0.0067 mm per pin off), or its vertices within a
+    // start radius pull the mean off every pair (0.003 mm per pin off; both under the size check's
+    // tolerance: docs/method.md 1.6, Vertex snapping).
     const SnapResult all = snap_offset(*vertices, axis, options.snap);
-    if (all.snapped && shaping.rows() == 0)
-      shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
-    const SnapResult shape =
-        all.snapped && shaping.rows() > 1 ? snap_offset(shaping, axis, options.snap) : SnapResult{};
-    if (shape.snapped && (shape.offset - all.offset).norm() > 2 * options.snap.end_radius)
+    const SnapResult shape = shaping.rows() > 1 ? snap_offset(shaping, axis, options.snap) : SnapResult{};
+    if (shape.snapped && (!all.snapped || (shape.offset - all.offset).norm() > 2 * options.snap.end_radius))
       axis = shape.offset;
     else if (all.snapped)
       axis = all.offset;
