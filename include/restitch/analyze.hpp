@@ -524,13 +524,33 @@ Eigen::Matrix<double, Eigen::Dynamic, 3> shape_vertices(const Mesh& mesh, const 
   return P;
 }
 
+/// shape_vertices of one mesh and normalization, gathered on first use and kept: the snap of the principal
+/// offsets, the shorter repeats of 1.12 and the vertex repeats of 1.14 all read them.
+class ShapingVertices {
+ public:
+  ShapingVertices(const Mesh& mesh, const Normalization& norm, bool keep_flat)
+      : mesh_(mesh), norm_(norm), keep_flat_(keep_flat) {}
+  const Eigen::Matrix<double, Eigen::Dynamic, 3>& get() {
+    if (!done_) points_ = shape_vertices(mesh_, norm_, keep_flat_), done_ = true;
+    return points_;
+  }
+
+ private:
+  const Mesh& mesh_;
+  const Normalization& norm_;
+  bool keep_flat_;
+  bool done_ = false;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> points_{0, 3};
+};
+
 /// The greedy principal offsets over the promoted offsets (first, in request order) and the
 /// significant ones reduced to fundamentals among themselves, vertex snapping, the lattice fit, and
 /// the candidates. `vertices`: the unique vertex positions (normalized), or null when offsets are not
-/// snapped.
+/// snapped; `shaping`: the vertices that shape the model, in the same normalization.
 template <class D, class M, class Det>
 Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
-                      const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices, Analysis& a) {
+                      const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices, ShapingVertices& shaping,
+                      Analysis& a) {
   std::vector<Eigen::Vector3d> promoted, significant;
   std::vector<int> where;  // index in a.dominant of each listed offset
   for (int i : a.promoted) promoted.push_back(a.dominant[std::size_t(i)].offset), where.push_back(i);
@@ -557,9 +577,6 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
   for (int& s : a.axes.source)
     if (s >= 0) s = where[std::size_t(s)];  // PrincipalOffsets::source indexes Analysis::dominant
   a.principal.clear();
-  const Eigen::Matrix<double, Eigen::Dynamic, 3> shaping =
-      vertices && a.axes.real_count > 0 ? shape_vertices(mesh, a.normalization, options.flat_vertex_features)
-                                        : Eigen::Matrix<double, Eigen::Dynamic, 3>(0, 3);
   for (int k = 0; k < a.axes.real_count; ++k) {
     Eigen::Vector3d& axis = a.axes.axes[std::size_t(k)];
     if (!vertices) {
@@ -573,7 +590,8 @@ Status select_and_fit(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
     // start radius pull the mean off every pair (0.003 mm per pin off; both under the size check's
     // tolerance: docs/method.md 1.6, Vertex snapping).
     const SnapResult all = snap_offset(*vertices, axis, options.snap);
-    const SnapResult shape = shaping.rows() > 1 ? snap_offset(shaping, axis, options.snap) : SnapResult{};
+    const SnapResult shape =
+        shaping.get().rows() > 1 ? snap_offset(shaping.get(), axis, options.snap) : SnapResult{};
     if (shape.snapped && (!all.snapped || (shape.offset - all.offset).norm() > 2 * options.snap.end_radius))
       axis = shape.offset;
     else if (all.snapped)
@@ -713,13 +731,12 @@ void take_period(Analysis& a, const PrincipalOffsets& axes, int k, const Eigen::
 /// divide nothing (the run of slats with its rail). The first that qualifies replaces t (snapped), and the
 /// dominant offset it came from gets its divisor (or multiple) and a test record "structure_divisor" /
 /// "structure_multiple" / "structure_shorter". `vertices`: the unique vertex positions (normalized);
-/// nothing is done without them.
+/// nothing is done without them; `shaping`: those that shape the model (the lags of the shorter repeats).
 template <class D, class M, class Det>
 Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
-                      const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices,
+                      const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices, ShapingVertices& shaping,
                       std::unique_ptr<TriangleSurface>& surface, Analysis& a, std::array<int, 3>& unread) {
   if (!options.verify_periods || !vertices || a.axes.real_count == 0 || a.dense.size() == 0) return {};
-  Eigen::Matrix<double, Eigen::Dynamic, 3> shaping(0, 3);  // shape_vertices, once an axis needs them
   bool changed = false;
   for (int k = 0; k < a.axes.real_count; ++k) {
     if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
@@ -788,8 +805,7 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       // for the features, 1.1): a slat pitch the matching did not vote for (three slats a run: their pairs
       // are outvoted by the runs'). The four most paired, with as many pairs as a snap needs: each costs a
       // lattice fit and a structure, and the structure's exact test below decides.
-      if (shorter_too && shaping.rows() == 0) shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
-      for (const Eigen::Vector3d& u : shorter_too ? vertex_lags(shaping, t, options.snap.end_radius, options.dense_spacing,
+      for (const Eigen::Vector3d& u : shorter_too ? vertex_lags(shaping.get(), t, options.snap.end_radius, options.dense_spacing,
                                                           options.snap.min_pairs, 4)
                                             : std::vector<Eigen::Vector3d>{})
         propose(u, -1);
@@ -926,25 +942,23 @@ Result<bool> vertex_pattern(const Mesh& mesh, const AnalysisOptions<D, M, Det>& 
 /// would have found, its period too short for the matching's scales) it is significant and a principal
 /// offset, after the others; else a candidate of reason "vertices", where a candidate that is a multiple of
 /// it no longer is one (collect_candidates). `vertices`: the unique vertex positions (normalized); nothing
-/// is done without them.
+/// is done without them; `shaping`: those that shape the model (whose lags are tried).
 template <class D, class M, class Det>
 Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
-                           const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices,
+                           const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices, ShapingVertices& shaping,
                            std::unique_ptr<TriangleSurface>& surface, Analysis& a) {
   if (!options.vertex_repeats || !vertices || vertices->rows() < 2 || a.axes.real_count >= 3 || a.dense.size() == 0)
     return {};
   std::array<bool, 3> covered{{false, false, false}};
   for (const Eigen::Vector3d& p : a.principal) covered[std::size_t(world_axis_of(p))] = true;
-  Eigen::Matrix<double, Eigen::Dynamic, 3> shaping(0, 3);
   std::unique_ptr<PointSet> fine;  // vertex_pattern's fine samples, drawn once needed
   bool added = false;
   for (int w = 0; w < 3; ++w) {
     if (covered[std::size_t(w)] || a.axes.real_count >= 3) continue;
-    if (shaping.rows() == 0) shaping = shape_vertices(mesh, a.normalization, options.flat_vertex_features);
     const double length = vertices->col(w).maxCoeff() - vertices->col(w).minCoeff();
     const Eigen::Vector3d along = Eigen::Vector3d::Unit(w);
     std::vector<Eigen::Vector3d> lags =
-        vertex_lags(shaping, length * along, options.snap.end_radius, options.dense_spacing, options.snap.min_pairs, 4);
+        vertex_lags(shaping.get(), length * along, options.snap.end_radius, options.dense_spacing, options.snap.min_pairs, 4);
     std::stable_sort(lags.begin(), lags.end(),
                      [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) { return x.norm() < y.norm(); });
     for (const Eigen::Vector3d& u : lags) {
@@ -1147,13 +1161,14 @@ Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>&
   if (options.snap_to_vertices) P = unique_normalized_vertices(mesh, a.normalization);
   reduce_to_fundamental_periods(options, options.snap_to_vertices ? &P : nullptr, a);
   RESTITCH_TRY(find_short_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, a));
-  RESTITCH_TRY(select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, a));
+  ShapingVertices shaping(mesh, a.normalization, options.flat_vertex_features);
+  RESTITCH_TRY(select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, shaping, a));
   std::unique_ptr<TriangleSurface> surface;  // the mesh's triangles for the structures, built once needed
   std::array<int, 3> unread{{-1, -1, -1}};  // per axis, as verify_periods found it (Unread)
-  RESTITCH_TRY(verify_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a, unread));
+  RESTITCH_TRY(verify_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, shaping, surface, a, unread));
   RESTITCH_TRY(phase_by_structure(mesh, options, surface, a, unread));
   RESTITCH_TRY(two_copy_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a, unread));
-  return find_vertex_repeats(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a);
+  return find_vertex_repeats(mesh, options, options.snap_to_vertices ? &P : nullptr, shaping, surface, a);
 }
 
 
@@ -1305,7 +1320,8 @@ Status promote_offsets(const Mesh& mesh, const AnalysisOptions<D, M, Det>& optio
       b.promoted.push_back(found);
     }
     const auto t0 = std::chrono::steady_clock::now();
-    RESTITCH_TRY(detail::select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, b));
+    detail::ShapingVertices shaping(mesh, b.normalization, options.flat_vertex_features);
+    RESTITCH_TRY(detail::select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, shaping, b));
     std::unique_ptr<detail::TriangleSurface> surface;
     std::array<int, 3> unread{{-1, -1, -1}};
     RESTITCH_TRY(detail::phase_by_structure(mesh, options, surface, b, unread));
