@@ -120,14 +120,12 @@ struct CellStructure {
   /// lacks such a wall: what a resize copies may be a gap in one part (a key notch over every pin), not a
   /// repeat (docs/method.md 2.10, A gap is no repeat; warned "short repeat").
   std::array<bool, 3> gap_run{{false, false, false}};
-  /// Per axis: nothing repeats, and the whole slab a resize copies continues to neither side (its samples,
-  /// moved one period either way, land off the surface somewhere inside the model), by a difference that is
-  /// not plain. What it holds may occur once (a pin-1 marker reaching into the only whole cell), and a resize
-  /// copies it, unless a seam moved off the cell plane leaves it out (docs/method.md 2.10, A cell that
-  /// continues nothing; the result check's "part count" counts it in the output).
-  std::array<bool, 3> lone_copy{{false, false, false}};
-  /// Per axis with lone_copy: that content, the slab's samples (canonical positions on the structure's grid)
-  /// that land off the surface moved one period either way, both moves inside the model. The
+  /// Per axis where nothing repeats and the whole slab a resize copies continues to neither side (its
+  /// samples, moved one period either way, land off the surface somewhere inside the model) by a difference
+  /// that is not plain: what it holds may occur once (a pin-1 marker reaching into the only whole cell), and a
+  /// resize copies it, unless a seam moved off the cell plane leaves it out (docs/method.md 2.10, A cell that
+  /// continues nothing). That content: the slab's samples (canonical positions on the structure's grid) that
+  /// land off the surface moved one period either way, both moves inside the model; empty elsewhere. The
   /// result check (restitch/retarget/check.hpp, "part count") counts how many times the output holds each.
   std::array<std::vector<Eigen::Vector3d>, 3> lone_content;
   std::vector<SingularPart> parts;  ///< by axis, then index
@@ -617,7 +615,6 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
           if (!whole_slab(i) || continues(i, -1) || continues(i, 1) ||
               (difference_plain(i, -1, true) && difference_plain(i, 1, true)))
             continue;
-          s.lone_copy[std::size_t(a)] = true;
           for (const std::size_t k : slab[std::size_t(i)]) {
             const double t = canonical[k][a];
             if (inside(t - 1) && inside(t + 1) && off_surface(k, -1) && off_surface(k, 1))
