@@ -27,9 +27,15 @@
 //
 // The grid: along the resized axis 2 m cells a period, m the whole number that makes a cell nearest to two
 // sample spacings (a face's neighbourhood, one spacing either side, then spans a cell: the faces to choose
-// from lie as close as the test can tell apart); across, R's extent in cells twice that long, coarser
-// until the grid holds at most `max_cells`. The stitch runs on the coarsest grid that keeps S's box and
-// the move whole (the stitcher partitions a triangle over the cells it crosses).
+// from lie as close as the test can tell apart); across, R's extent in cells as long, coarser until the
+// grid holds at most `max_cells`. The stitch runs on the coarsest grid that keeps S's box and the move
+// whole (the stitcher partitions a triangle over the cells it crosses).
+//
+// Resolution: the part's content marks cells a spacing around it, and a face is tested a spacing either
+// side, so content that repeats (a pin) nearer the part than about three spacings shares a cell with it or
+// with a face the part's flood crosses or with the groove beside it, and stops the move. Where the move
+// stops at such a cell, it is tried once more on samples and cells of half the spacing (the part's content
+// keeps its own spacing): four times the samples, only where the first try stops at content.
 //
 // Cost: a Poisson-disk sample of R at the analysis' dense spacing, a tree over R's triangles, bounded
 // point-to-surface queries for the samples of the cells and faces tested, and one stitch of R.
@@ -69,26 +75,33 @@ inline int centring_move(const SingularPart& p, int k) {
 /// Options of centre_part.
 struct CentringOptions {
   double tolerance = 0;   ///< model units: the structure's (R and R moved coincide within it)
-  double spacing = 0;     ///< model units: the analysis' dense sample spacing
+  double spacing = 0;     ///< model units: the analysis' dense sample spacing (of the part's content)
   double weld = 1e-6;     ///< the stitcher's weld tolerance (fraction of the diagonal), for the open-edge count
   std::int64_t max_cells = std::int64_t(1) << 20;  ///< cells of the fine grid at most
   std::uint64_t seed = 0x5eed;  ///< of R's samples
 };
 
-/// Moves part p of the stitched result R (input frame, output cells `cells_out` of lattice `grid`, the
-/// part copied with shift `d` cells along its axis) by half a period the way `move` (+1, -1) says, alone,
-/// with `stitch(mesh, lattice, cells_out, shift, out, report)` (the stitcher's plain call): see the file
-/// comment. `moved` says whether it was; when not, `out` is untouched. Errors: the stitcher's.
+namespace detail {
+
+/// How one try of centre_part ended.
+enum class CentringTry {
+  moved,
+  stopped_at_content,  ///< a cell the flood reached or the groove holds is not plain: finer samples may
+                       ///< separate it from the part
+  not_moved
+};
+
+/// One try of centre_part, on samples and cells of spacing `spacing` (o.spacing: the content's).
 template <class StitchFn>
-Status centre_part(const Mesh& R, const Lattice& grid, const Eigen::Array3i& cells_out, const SingularPart& p, int d,
-                   int move, const CentringOptions& o, StitchFn&& stitch, Mesh& out, bool& moved) {
-  moved = false;
+Status centre_part_at(const Mesh& R, const Lattice& grid, const Eigen::Array3i& cells_out, const SingularPart& p,
+                      int d, int move, const CentringOptions& o, double spacing, StitchFn& stitch, Mesh& out,
+                      CentringTry& how) {
+  how = CentringTry::not_moved;
   const int a = p.axis;
-  if (move == 0 || p.content.empty() || R.empty() || !(o.spacing > 0) || !(o.tolerance > 0)) return {};
   const Eigen::Vector3d v = grid.A.col(a);
   const double period = v.norm();
-  // The fine grid: m cells a half period along a, cells twice as long across R's extent (file comment).
-  const int m = std::max(1, int(std::lround(0.5 * period / (2 * o.spacing))));
+  // The fine grid: m cells a half period along a, cells as long across R's extent (file comment).
+  const int m = std::max(1, int(std::lround(0.5 * period / (2 * spacing))));
   Lattice F;
   F.A = grid.A;
   F.origin = grid.origin;
@@ -98,7 +111,7 @@ Status centre_part(const Mesh& R, const Lattice& grid, const Eigen::Array3i& cel
     const Eigen::Array3d c = (Ainv * (R.V.row(i).template cast<double>().transpose() - grid.origin)).array();
     lo = lo.min(c), hi = hi.max(c);
   }
-  double cell = period / m;  // across: twice the cell along a
+  double cell = period / (2 * m);  // across: as along a
   if (std::int64_t(cells_out[a]) * 2 * m > o.max_cells) return {};
   for (;;) {
     std::int64_t total = std::int64_t(cells_out[a]) * 2 * m;
@@ -128,7 +141,7 @@ Status centre_part(const Mesh& R, const Lattice& grid, const Eigen::Array3i& cel
 
   // R's samples by fine cell, and its surface.
   Normalization norm = Normalization::of(bounding_box(R));
-  Result<PointSet> samples = poisson_disk_sample(R, norm, o.spacing * norm.scale, o.seed);
+  Result<PointSet> samples = poisson_disk_sample(R, norm, spacing * norm.scale, o.seed);
   if (!samples.ok()) return {};  // too many samples or no area: the part stays
   std::vector<Eigen::Vector3d> pts;
   std::vector<std::vector<std::uint32_t>> by_cell(std::size_t(G.size()));
@@ -176,7 +189,8 @@ Status centre_part(const Mesh& R, const Lattice& grid, const Eigen::Array3i& cel
   };
   // Around the face of cell c toward -b (side 0) or +b (side 1): the face grown by a spacing every way.
   Eigen::Array3d grow;
-  for (int b = 0; b < 3; ++b) grow[b] = o.spacing / F.A.col(b).norm();
+  for (int b = 0; b < 3; ++b) grow[b] = spacing / F.A.col(b).norm();
+  const Eigen::Array3d reach = grow * (o.spacing / spacing);  // a content sample's: its own spacing
   const auto coincide_at_face = [&](const Eigen::Array3i& c, int b, int side) {
     Eigen::Array3d box_lo = c.cast<double>() - grow, box_hi = c.cast<double>() + 1 + grow;
     box_lo[b] = c[b] + side - grow[b], box_hi[b] = c[b] + side + grow[b];
@@ -200,8 +214,8 @@ Status centre_part(const Mesh& R, const Lattice& grid, const Eigen::Array3i& cel
       const Eigen::Array3d t = (Finv * (y - F.origin)).array();
       Eigen::Array3i c0, c1;
       for (int e = 0; e < 3; ++e)
-        c0[e] = std::clamp(int(std::floor(t[e] - grow[e])), 0, F.cells[e] - 1),
-        c1[e] = std::clamp(int(std::floor(t[e] + grow[e])), 0, F.cells[e] - 1);
+        c0[e] = std::clamp(int(std::floor(t[e] - reach[e])), 0, F.cells[e] - 1),
+        c1[e] = std::clamp(int(std::floor(t[e] + reach[e])), 0, F.cells[e] - 1);
       for (int z = c0[2]; z <= c1[2]; ++z)
         for (int yy = c0[1]; yy <= c1[1]; ++yy)
           for (int x = c0[0]; x <= c1[0]; ++x)
@@ -218,7 +232,10 @@ Status centre_part(const Mesh& R, const Lattice& grid, const Eigen::Array3i& cel
         if (!G.inside(n) || in_s[std::size_t(G.index(n))] || coincide_at_face(c, b, side)) continue;
         // A cell without the part's content joins only where R and R moved coincide in it (a plain wall): what
         // repeats (a slat, a pin) would come out half a period out of step with its neighbours.
-        if (!coincide_in(n.cast<double>(), n.cast<double>() + 1)) return {};
+        if (!coincide_in(n.cast<double>(), n.cast<double>() + 1)) {
+          how = CentringTry::stopped_at_content;
+          return {};
+        }
         if (!add(n)) return {};
       }
   }
@@ -274,7 +291,10 @@ Status centre_part(const Mesh& R, const Lattice& grid, const Eigen::Array3i& cel
                                         !coincide_moved(n.cast<double>(), n.cast<double>() + 1, 2 * hm)
                                     ? 1
                                     : 2;
-      if (plain[std::size_t(y)] == 2) return {};
+      if (plain[std::size_t(y)] == 2) {
+        how = CentringTry::stopped_at_content;
+        return {};
+      }
     }
   }
   // The stitch: on the fine grid, or, for a box, on a grid of as few cells as keep the box's planes and the
@@ -310,7 +330,26 @@ Status centre_part(const Mesh& R, const Lattice& grid, const Eigen::Array3i& cel
   };
   if (result.empty() || open_length(result) > open_length(R) + o.tolerance) return {};
   out = std::move(result);
-  moved = true;
+  how = CentringTry::moved;
+  return {};
+}
+
+}  // namespace detail
+
+/// Moves part p of the stitched result R (input frame, output cells `cells_out` of lattice `grid`, the
+/// part copied with shift `d` cells along its axis) by half a period the way `move` (+1, -1) says, alone,
+/// with `stitch(mesh, lattice, cells_out, shift, out, report)` (the stitcher's plain call): see the file
+/// comment. `moved` says whether it was; when not, `out` is untouched. Errors: the stitcher's.
+template <class StitchFn>
+Status centre_part(const Mesh& R, const Lattice& grid, const Eigen::Array3i& cells_out, const SingularPart& p, int d,
+                   int move, const CentringOptions& o, StitchFn&& stitch, Mesh& out, bool& moved) {
+  moved = false;
+  if (move == 0 || p.content.empty() || R.empty() || !(o.spacing > 0) || !(o.tolerance > 0)) return {};
+  detail::CentringTry how = detail::CentringTry::not_moved;
+  RESTITCH_TRY(detail::centre_part_at(R, grid, cells_out, p, d, move, o, o.spacing, stitch, out, how));
+  if (how == detail::CentringTry::stopped_at_content)  // content nearer than the samples tell apart
+    RESTITCH_TRY(detail::centre_part_at(R, grid, cells_out, p, d, move, o, 0.5 * o.spacing, stitch, out, how));
+  moved = how == detail::CentringTry::moved;
   return {};
 }
 
