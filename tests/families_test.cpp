@@ -415,8 +415,12 @@ TEST_CASE("bad requests get invalid_argument naming what is wrong", "[samples]")
   fails("fence", {{"picket_width", 0.2}}, StatusCode::invalid_argument, {"picket_width", "picket_pitch"});
   fails("pin_header", {{"notch", 0.5}}, StatusCode::invalid_argument, {"notch"});
   fails("bookshelf", {{"columns", 64}, {"shelves", 64}, {"detail", 64}}, StatusCode::too_large, {"detail"});
+  fails("bookshelf", {{"door_column", 2}}, StatusCode::invalid_argument, {"door_column", "door_shelf"});
+  fails("bookshelf", {{"door_column", -5}, {"door_shelf", 1}}, StatusCode::invalid_argument, {"door_column", "columns"});
+  fails("bookshelf", {{"door_column", 1}, {"door_shelf", 5}}, StatusCode::invalid_argument, {"door_shelf", "shelves"});
   // Boundary values are accepted.
   CHECK(generate("bookshelf", {{"columns", 1}, {"shelves", 1}}).ok());
+  CHECK(generate("bookshelf", {{"columns", 1}, {"shelves", 1}, {"door_column", -1}, {"door_shelf", 1}}).ok());
   CHECK(generate("fence", {{"pickets", 1}}).ok());
   CHECK(generate("pin_header", {{"pins", 1}}).ok());
   CHECK(generate("facade", {{"columns", 1}, {"floors", 1}}).ok());

@@ -313,6 +313,57 @@ TEST_CASE("structure: structured families resized from every count to every othe
   }
 }
 
+// A part that occurs once along both repeats of a grid: a door over one compartment of a bookshelf, counted
+// from an end along each axis (`restitch sample bookshelf --door_column K --door_shelf L`, negative from the
+// right or the top). Resized along either axis or both, it stays at its compartment counted from the same
+// ends, once: exact in place against the family at that size, no more open length, nothing warned. With the
+// parts kept off (the paper's labelling) a grow along both axes leaves a strip of the door in the column
+// beside it, an open seam (docs/results.md, A door in a grid).
+TEST_CASE("structure: a door over one compartment of a grid stays at its compartment counted from its ends",
+          "[structure][samples]") {
+  struct Case {
+    int columns, shelves, door_column, door_shelf;
+  };
+  for (const Case& c : {Case{6, 4, 2, -1}, Case{4, 6, -1, 2}, Case{6, 6, -2, 2}}) {
+    const auto params = [&](int columns, int shelves) {
+      return std::map<std::string, double>{{"columns", columns},
+                                           {"shelves", shelves},
+                                           {"door_column", c.door_column},
+                                           {"door_shelf", c.door_shelf}};
+    };
+    INFO(c.columns << " x " << c.shelves << ", door at " << c.door_column << ", " << c.door_shelf);
+    const Family f = make("bookshelf", params(c.columns, c.shelves));
+    Retargeter<> r(f.sample.mesh, f.analysis);
+    REQUIRE(r.status().ok());
+    // The door is a part along both lattice axes, anchored to the end it is counted from (with the end
+    // slab, where it lies next to it).
+    for (int g = 0; g < 2; ++g) {
+      const int w = world_axis_of(f.sample.generators[std::size_t(g)]);
+      const PartAnchor expected = (g == 0 ? c.door_column : c.door_shelf) > 0 ? PartAnchor::low : PartAnchor::high;
+      bool found = false;
+      for (const SingularPart& p : r.structure()->parts)
+        found = found || (world_axis_of(f.analysis.lattice.A.col(p.axis)) == w && p.anchor == expected);
+      CHECK(found);
+    }
+    for (const auto& [dx, dy] : std::vector<std::pair<int, int>>{{-1, 0}, {2, 0}, {0, -1}, {0, 2}, {2, 2}}) {
+      INFO("by " << dx << ", " << dy);
+      auto truth = families::generate("bookshelf", params(c.columns + dx, c.shelves + dy));
+      REQUIRE(truth.ok());
+      const BoundingBox bt = bounding_box(truth->mesh);
+      auto out = r.retarget_to_size(Eigen::Vector3d(dx ? bt.size().x() : 0, dy ? bt.size().y() : 0, 0), false);
+      REQUIRE(out.ok());
+      const BoundingBox bo = bounding_box(out->mesh);
+      const double size = bt.size().norm();
+      CHECK((bt.min - bo.min).norm() < 1e-4 * size);
+      CHECK((bt.max - bo.max).norm() < 1e-4 * size);
+      CHECK(test::symmetric_surface_distance(out->mesh, truth->mesh, 0.004 * size) < 1e-4 * size);
+      const double open = test::open_boundary_length(truth->mesh);
+      CHECK(test::open_boundary_length(out->mesh) <= open + 1e-6 * (1 + open));
+      CHECK(out->report.warnings.empty());
+    }
+  }
+}
+
 // A 5-column box header whose pins stand about 2.5 sample spacings from the inside of the front wall (0.61
 // and 0.53 at the analysis' spacing of 0.24 and 0.22): the notch's cells, a spacing around its samples, reach
 // the cells of the pins' row, and the move stopped there, half a pitch off the centre at 4 and 6 columns

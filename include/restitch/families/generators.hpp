@@ -95,7 +95,8 @@ template <class = void>
 SampleInfo bookshelf_info() {
   return {"bookshelf",
           "A bookshelf: columns x shelves compartments between two side panels, top and bottom boards, vertical "
-          "dividers, shelf boards and a back panel. Repeats along x (columns) and y (shelves).",
+          "dividers, shelf boards and a back panel; optionally a door over one compartment. Repeats along x "
+          "(columns) and y (shelves).",
           "m",
           {{"columns", 4, 1, 64, true, "compartments side by side (repeats along x)"},
            {"shelves", 4, 1, 64, true, "compartments stacked (repeats along y)"},
@@ -104,10 +105,20 @@ SampleInfo bookshelf_info() {
            {"depth", 0.3, 0.1, 1.0, false, "depth of the boards (m)"},
            {"board_thickness", 0.02, 0.005, 0.05, false, "thickness of panels, boards and dividers (m)"},
            {"back_thickness", 0.005, 0.002, 0.02, false, "thickness of the back panel (m)"},
+           {"door_column", 0, -64, 64, true,
+            "column of the compartment a door closes: k from the left, -k from the right; 0: no door"},
+           {"door_shelf", 0, -64, 64, true, "shelf of the door's compartment: k from the bottom, -k from the top"},
            {"detail", 1, 1, 64, true, "tessellation level: edges are cut every 0.1 m / detail"}}};
 }
 
-inline Status bookshelf_check(const ParameterValues&) { return {}; }
+template <class = void>
+Status bookshelf_check(const ParameterValues& v) {
+  const int i = v.count("door_column"), j = v.count("door_shelf");
+  if ((i == 0) != (j == 0)) return constraint(false, "door_column and door_shelf are both 0 (no door) or neither");
+  if (std::abs(i) > v.count("columns")) return constraint(false, "door_column must be at most columns");
+  if (std::abs(j) > v.count("shelves")) return constraint(false, "door_shelf must be at most shelves");
+  return {};
+}
 
 template <class = void>
 void bookshelf_build(const ParameterValues& P, SampleMeshBuilder& B, SampleModel& out) {
@@ -118,6 +129,14 @@ void bookshelf_build(const ParameterValues& P, SampleMeshBuilder& B, SampleModel
   const int shelf = B.add_material(make_material("shelf", 0.62f, 0.43f, 0.26f, 0.0f, 0.55f));
   const int back = B.add_material(make_material("back_panel", 0.85f, 0.80f, 0.70f, 0.0f, 0.9f));
   const Blocks X{c - 1}, Y{r - 1};
+  // The door's compartment (0-based; compartment i lives in block i, the last in the end block), and the
+  // parts it makes, kept at the end it is counted from.
+  const int di = P.count("door_column"), dj = P.count("door_shelf");
+  const int door_x = di > 0 ? di - 1 : c + di, door_y = dj > 0 ? dj - 1 : r + dj;
+  const int door = di != 0 ? B.add_material(make_material("door", 0.80f, 0.78f, 0.72f, 0.0f, 0.5f)) : -1;
+  if (door >= 0)
+    out.parts = {{0, door_x, door_x, di > 0 ? "low end" : "high end", "door"},
+                 {1, door_y, door_y, dj > 0 ? "low end" : "high end", "door"}};
   out.origin = Vec3(t, t, 0);
   out.generators = {Vec3(p, 0, 0), Vec3(0, q, 0)};
   out.count_parameters = {"columns", "shelves"};
@@ -151,6 +170,13 @@ void bookshelf_build(const ParameterValues& P, SampleMeshBuilder& B, SampleModel
       // Dividers: from the bottom board to the top board, cut per row.
       if (X.module(bx) && !Y.start(by))
         B.box(Vec3(p - t, 0, 0), Vec3(p, Y.end(by) ? q - t : q, D), box_neg_x | box_pos_x | box_neg_z | box_pos_z);
+      if (door >= 0 && bx == door_x && by == door_y) {  // a door panel in front of the compartment, a knob
+        const double gap = 0.004, w = p - t, h = q - t;
+        const unsigned all = box_neg_x | box_pos_x | box_neg_y | box_pos_y | box_neg_z | box_pos_z;
+        B.set_material(door);
+        B.box(Vec3(gap, gap, D), Vec3(w - gap, h - gap, D + t), all);
+        B.box(Vec3(w - 0.06, h / 2 - 0.03, D + t), Vec3(w - 0.04, h / 2 + 0.03, D + t + 0.025), all);
+      }
     }
 }
 
