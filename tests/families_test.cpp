@@ -130,9 +130,10 @@ TEST_CASE("catalog lists every sample in a fixed order with sane parameters", "[
       CHECK(!p.help.empty());
       if (p.integer) {
         CHECK(p.value == std::floor(p.value));
-        // Counts, detail and a 1-based index are >= 1 (families.hpp); the one other integer kind is a 0/1
-        // switch (pin_header's `closed`, radiator's `valve`).
-        CHECK((p.min >= 1 || (p.min == 0 && p.max == 1)));
+        // Counts, detail and a 1-based index are >= 1 (families.hpp); the other integer kinds are a 0/1
+        // switch (pin_header's `closed`, radiator's `valve`) and an index counted from either end, 0 for
+        // none (bookshelf's `door_column`, `door_shelf`), whose range is symmetric.
+        CHECK((p.min >= 1 || (p.min == 0 && p.max == 1) || (p.min == -p.max && p.value == 0)));
       }
       has_detail = has_detail || (p.name == "detail" && p.integer);
     }
