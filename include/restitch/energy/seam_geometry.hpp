@@ -156,6 +156,7 @@ class CellSlabs {
     surface_tolerance_ = tolerance;
     surface_.reset();
     positions_cache_.clear();
+    along_cache_.clear();
   }
 
   /// The cost of samples in one slab against nothing around the other (model units).
@@ -281,11 +282,7 @@ class CellSlabs {
     for (int j = -J; j <= J; ++j)
       if ((j > 0 && !grid_.inside(s + e)) || (j < 0 && !grid_.inside(s - delta))) out.valid[std::size_t(j + J)] = 0;
     const double h = spacing_ * Ainv_.row(a).norm();  // one spacing across the planes of a, in cells
-    const double tau2 = 2.25 * spacing_ * spacing_;
     const Eigen::Vector3d move = A_ * delta.cast<double>().matrix();  // model units
-    if (surface_mesh_ && !surface_) surface_ = std::make_shared<detail::TriangleSurface>(*surface_mesh_);
-    const detail::TriangleSurface* surface = surface_.get();
-    const detail::PointSetTree* tree = surface ? nullptr : &sample_tree();
     // side 0: x's copy (below the cut), from input cells s and s + e_a; its samples moved by -move must
     // meet a sample. side 1: y's copy (from the cut on), cells s - delta and s - delta + e_a; by +move.
     for (int side = 0; side < 2; ++side) {
@@ -295,16 +292,7 @@ class CellSlabs {
         for (const int i : members_[std::size_t(grid_.index(c))]) {
           const double w = canonical_[std::size_t(i)][a] - double(lower[a]);  // from x's lower plane
           if (w < 0.5 - h || w >= 1.5 + h) continue;
-          const Eigen::Vector3d q = points_[std::size_t(i)] + (side == 0 ? -move : move);
-          bool found;
-          if (surface) {
-            found = surface->distance_within(q, surface_tolerance_) < surface_tolerance_;
-          } else {
-            const float qf[3] = {float(q[0]), float(q[1]), float(q[2])};
-            detail::NearestWithin nearest = detail::NearestWithin::keeping(tau2);
-            tree->findNeighbors(nearest, qf, nanoflann::SearchParams());
-            found = nearest.found;
-          }
+          const bool found = continued(points_[std::size_t(i)] + (side == 0 ? -move : move));
           for (int j = -J; j <= J; ++j) {
             const double t = 1.0 + double(j) / K;
             if (!found && (j < 0 ? (w >= t && w < 1.0) : (w >= 1.0 && w < t))) ++out.changed[std::size_t(j + J)];
@@ -314,6 +302,32 @@ class CellSlabs {
           }
         }
       }
+    }
+    return out;
+  }
+
+  /// A seam across the planes of b seen along another axis a (docs/method.md 2.9, Staircases): per K-th of
+  /// input cell c along a (K entries), the samples of c within one sample spacing of its plane along b
+  /// (the upper plane for toward = +1, the lower for -1) that, moved by A delta (the shift difference
+  /// toward the other copy's source), are not continued (the test of seam_positions). A sample outside
+  /// the cell along a counts in no part. All zero for a cell outside the grid. Cached per (c, b, toward,
+  /// delta, a, K); cost of a new one: one bounded distance query per sample near the plane.
+  template <class = void>
+  const std::vector<int>& plane_fail_along(const Eigen::Array3i& c, int b, int toward, const Eigen::Array3i& delta,
+                                           int a, int K) {
+    const auto key = std::make_tuple(grid_.inside(c) ? grid_.index(c) : -1, b, toward, delta[0], delta[1], delta[2], a, K);
+    const auto hit = along_cache_.find(key);
+    if (hit != along_cache_.end()) return hit->second;
+    std::vector<int>& out = along_cache_[key];
+    out.assign(std::size_t(K), 0);
+    if (!grid_.inside(c)) return out;
+    const double h = spacing_ * Ainv_.row(b).norm();  // one spacing across the planes of b, in cells
+    const Eigen::Vector3d move = A_ * delta.cast<double>().matrix();
+    for (const int i : members_[std::size_t(grid_.index(c))]) {
+      const double wb = canonical_[std::size_t(i)][b] - double(c[b]), wa = canonical_[std::size_t(i)][a] - double(c[a]);
+      if (toward > 0 ? (wb < 1.0 - h || wb >= 1.0) : (wb < 0.0 || wb >= h)) continue;
+      if (wa < 0.0 || wa >= 1.0) continue;
+      if (!continued(points_[std::size_t(i)] + move)) ++out[std::size_t(std::min(K - 1, int(wa * K)))];
     }
     return out;
   }
@@ -443,9 +457,22 @@ class CellSlabs {
   };
   std::shared_ptr<SampleTree> tree_;
   std::map<std::tuple<int, int, int, int, int, int>, SeamPositions> positions_cache_;
+  std::map<std::tuple<int, int, int, int, int, int, int, int>, std::vector<int>> along_cache_;
   const Mesh* surface_mesh_ = nullptr;  // set_surface
   double surface_tolerance_ = 0;
   std::shared_ptr<detail::TriangleSurface> surface_;
+
+  // Whether a sample moved to the other copy (model units) is continued there: within the stitcher's gap
+  // of the input's surface (set_surface), else within 1.5 spacings of a sample.
+  template <class = void>
+  bool continued(const Eigen::Vector3d& q) {
+    if (surface_mesh_ && !surface_) surface_ = std::make_shared<detail::TriangleSurface>(*surface_mesh_);
+    if (surface_) return surface_->distance_within(q, surface_tolerance_) < surface_tolerance_;
+    const float qf[3] = {float(q[0]), float(q[1]), float(q[2])};
+    detail::NearestWithin nearest = detail::NearestWithin::keeping(2.25 * spacing_ * spacing_);
+    sample_tree().findNeighbors(nearest, qf, nanoflann::SearchParams());
+    return nearest.found;
+  }
 
   template <class = void>
   const detail::PointSetTree& sample_tree() {

@@ -165,16 +165,19 @@ std::vector<int> face_labels(const Lattice& grid, const Mesh& m, const RetargetR
 // output cells with different labels meet: the seams across it ask CellSlabs::seam_positions for
 // every position within half a cell; the plane stays on the cell plane when no sample there fails to
 // continue, and otherwise moves to the valid position with the fewest such samples (then the fewest
-// samples cut, then the nearest the cell plane, then the lower), only when that is fewer than on the
-// cell plane. A plane stays put when a cell on either side of it meets a different label along
-// another axis (moving it would change those seams, which were not measured), and every plane stays
-// when an output end is copied from elsewhere (its end cap is cut at the lattice's end plane, in
-// whole cells). The caller asks only with RetargetOptions::move_seams.
+// samples changed, then cut, then the nearest the cell plane, then the lower), only when that is fewer
+// than on the cell plane. Where a cell beside the plane meets a different label along another axis b (a
+// staircase), the seams across b inside the strip the move sweeps change labels: they are counted too
+// (CellSlabs::plane_fail_along), as they lie after the move less as they lay before; a plane of b such a
+// seam lies on is then not moved, and a staircase on a plane of b that moved keeps the plane put. Every
+// plane stays when an output end is copied from elsewhere (its end cap is cut at the lattice's end plane,
+// in whole cells). The caller asks only with RetargetOptions::move_seams.
 template <class = void>
 MovedPlanes move_seams(CellSlabs& slabs, const Eigen::Array3i& k, const Eigen::Array3i& cells_out,
                        const std::vector<Eigen::Array3i>& shift) {
   MovedPlanes planes;
   const CellGrid out(cells_out);
+  const CellGrid in = slabs.grid();
   const auto label = [&](const Eigen::Array3i& x) -> const Eigen::Array3i& {
     return shift[std::size_t(out.index(x))];
   };
@@ -186,23 +189,58 @@ MovedPlanes move_seams(CellSlabs& slabs, const Eigen::Array3i& k, const Eigen::A
     }
   }
   constexpr int K = MovedPlanes::K, H = K / 2 - 1;
+  // Planes that must stay: a staircase seam lies on them and a plane across them moved.
+  std::array<std::vector<char>, 3> frozen;
+  for (int a = 0; a < 3; ++a) frozen[std::size_t(a)].assign(std::size_t(cells_out[a]) + 1, 0);
   for (int a = 0; a < 3; ++a)
     for (int i = 1; i < cells_out[a]; ++i) {
-      std::vector<std::int64_t> fail(2 * H + 1, 0), cut(2 * H + 1, 0), changed(2 * H + 1, 0);
+      if (frozen[std::size_t(a)][std::size_t(i)]) continue;
+      std::vector<std::int64_t> fail(2 * H + 1, 0), cut(2 * H + 1, 0), changed(2 * H + 1, 0), swept(2 * H + 1, 0);
       std::vector<char> valid(2 * H + 1, 1);
+      std::vector<std::pair<int, int>> crossing;  // (axis b, plane) of the staircase seams
       bool seam = false, blocked = false;
       for (std::int64_t xi = 0; xi < out.size() && !blocked; ++xi) {
         const Eigen::Array3i x = out.cell(xi);
         if (x[a] != i - 1) continue;
         Eigen::Array3i y = x;
         y[a] = i;
-        for (const Eigen::Array3i& z : {x, y})
-          for (int b = 0; b < 3; ++b)
+        // Staircases: the seams across b from each side's cell z (z, z + e_b), inside the strip a move of
+        // j / K sweeps (cells of column i for j > 0, of column i - 1 for j < 0), which then take the
+        // labels of the cells across the plane.
+        for (int side = 0; side < 2 && !blocked; ++side) {
+          const Eigen::Array3i z = side == 0 ? x : y, across = side == 0 ? y : x;
+          for (int b = 0; b < 3 && !blocked; ++b) {
+            if (b == a) continue;
             for (const int step : {-1, 1}) {
               Eigen::Array3i n = z;
               n[b] += step;
-              if (b != a && out.inside(n) && (label(n) != label(z)).any()) blocked = true;
+              if (out.inside(n) && (label(n) != label(z)).any())
+                crossing.emplace_back(b, step > 0 ? n[b] : z[b]);
             }
+            Eigen::Array3i n = z, n_across = across;
+            n[b] += 1;
+            n_across[b] += 1;
+            if (!out.inside(n)) continue;
+            const Eigen::Array3i &lz = label(z), &ln = label(n), &mz = label(across), &mn = label(n_across);
+            if ((lz == ln).all() && (mz == mn).all()) continue;
+            // The failing samples of the seam between z (labels d1) and n (d2), per K-th of the cell.
+            const auto fails = [&](const Eigen::Array3i& d1, const Eigen::Array3i& d2, int part) -> std::int64_t {
+              if ((d1 == d2).all()) return 0;
+              return slabs.plane_fail_along(z - d1, b, +1, d1 - d2, a, K)[std::size_t(part)] +
+                     slabs.plane_fail_along(n - d2, b, -1, d2 - d1, a, K)[std::size_t(part)];
+            };
+            const bool sources = in.inside(z - mz) && in.inside(n - mn);
+            for (int j = -H; j <= H; ++j) {
+              if (j == 0 || (side == 1) != (j > 0)) continue;  // the strip lies in z's column
+              if (!sources) {
+                valid[std::size_t(j + H)] = 0;
+                continue;
+              }
+              for (int part = j > 0 ? 0 : K + j; part < (j > 0 ? j : K); ++part)
+                swept[std::size_t(j + H)] += fails(mz, mn, part) - fails(lz, ln, part);
+            }
+          }
+        }
         const Eigen::Array3i &di = label(x), &dj = label(y);
         if ((di == dj).all()) continue;
         seam = true;
@@ -214,16 +252,20 @@ MovedPlanes move_seams(CellSlabs& slabs, const Eigen::Array3i& k, const Eigen::A
           valid[q] = char(valid[q] && p.valid[q]);
         }
       }
+      for (const auto& [b, plane] : crossing)
+        if (b < a && planes.moved(b) && planes.j[std::size_t(b)][std::size_t(plane)] != 0) blocked = true;
       if (!seam || blocked || !valid[H] || fail[H] == 0) continue;
+      for (std::size_t q = 0; q < fail.size(); ++q) fail[q] += swept[q];
       int best = H;
       const auto key = [&](int q) {
-      return std::make_tuple(fail[std::size_t(q)], changed[std::size_t(q)], cut[std::size_t(q)], std::abs(q - H), q);
-    };
+        return std::make_tuple(fail[std::size_t(q)], changed[std::size_t(q)], cut[std::size_t(q)], std::abs(q - H), q);
+      };
       for (int q = 0; q <= 2 * H; ++q)
         if (valid[std::size_t(q)] && fail[std::size_t(q)] < fail[H] && key(q) < key(best)) best = q;
       if (best == H) continue;
       if (!planes.moved(a)) planes.j[std::size_t(a)].assign(std::size_t(cells_out[a]) + 1, 0);
       planes.j[std::size_t(a)][std::size_t(i)] = best - H;
+      for (const auto& [b, plane] : crossing) frozen[std::size_t(b)][std::size_t(plane)] = 1;
     }
   return planes;
 }
