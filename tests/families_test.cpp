@@ -131,9 +131,10 @@ TEST_CASE("catalog lists every sample in a fixed order with sane parameters", "[
       if (p.integer) {
         CHECK(p.value == std::floor(p.value));
         // Counts, detail and a 1-based index are >= 1 (families.hpp); the other integer kinds are a 0/1
-        // switch (pin_header's `closed`, radiator's `valve`) and an index counted from either end, 0 for
-        // none (bookshelf's `door_column`, `door_shelf`), whose range is symmetric.
-        CHECK((p.min >= 1 || (p.min == 0 && p.max == 1) || (p.min == -p.max && p.value == 0)));
+        // switch (pin_header's `closed`, radiator's `valve`) and an index counted from either end, whose
+        // range is symmetric: 0 for none (bookshelf's `door_column`, `door_shelf`) or the first from the
+        // left (radiator's `valve_section`).
+        CHECK((p.min >= 1 || (p.min == 0 && p.max == 1) || (p.min == -p.max && (p.value == 0 || p.value == 1))));
       }
       has_detail = has_detail || (p.name == "detail" && p.integer);
     }
@@ -419,12 +420,31 @@ TEST_CASE("bad requests get invalid_argument naming what is wrong", "[samples]")
   fails("bookshelf", {{"door_column", 2}}, StatusCode::invalid_argument, {"door_column", "door_shelf"});
   fails("bookshelf", {{"door_column", -5}, {"door_shelf", 1}}, StatusCode::invalid_argument, {"door_column", "columns"});
   fails("bookshelf", {{"door_column", 1}, {"door_shelf", 5}}, StatusCode::invalid_argument, {"door_shelf", "shelves"});
+  fails("radiator", {{"valve_section", 0}}, StatusCode::invalid_argument, {"valve_section", "sections"});
+  fails("radiator", {{"sections", 8}, {"valve_section", -9}}, StatusCode::invalid_argument, {"valve_section"});
   // Boundary values are accepted.
+  CHECK(generate("radiator", {{"sections", 8}, {"valve_section", -8}}).ok());
+  CHECK(generate("radiator", {{"valve", 0}, {"valve_section", 0}}).ok());  // no valve: its section is not read
   CHECK(generate("bookshelf", {{"columns", 1}, {"shelves", 1}}).ok());
   CHECK(generate("bookshelf", {{"columns", 1}, {"shelves", 1}, {"door_column", -1}, {"door_shelf", 1}}).ok());
   CHECK(generate("fence", {{"pickets", 1}}).ok());
   CHECK(generate("pin_header", {{"pins", 1}}).ok());
   CHECK(generate("facade", {{"columns", 1}, {"floors", 1}}).ok());
+}
+
+TEST_CASE("a radiator's valve counted from the right is the one counted from the left, kept at the right", "[samples]") {
+  for (const int n : {1, 2, 5, 8})
+    for (int k = 1; k <= n; ++k) {
+      INFO(n << " sections, valve " << k << " from the right");
+      const auto right = make("radiator", {{"sections", n}, {"valve_section", -k}});
+      const auto left = make("radiator", {{"sections", n}, {"valve_section", n + 1 - k}});
+      CHECK(right.mesh.V == left.mesh.V);
+      CHECK(right.mesh.F == left.mesh.F);
+      REQUIRE(right.parts.size() == 1);
+      CHECK(right.parts[0].first == n - k);
+      CHECK(right.parts[0].anchor == "high end");
+      CHECK(left.parts[0].anchor == "low end");
+    }
 }
 
 TEST_CASE("detail scales the triangle count up to about 200k triangles", "[samples]") {

@@ -547,7 +547,8 @@ void cabinet_build(const ParameterValues& v, restitch::detail::SampleMeshBuilder
 // radiator
 //
 // A sectional radiator: sections along x joined by a top and a bottom header, plugs at both ends, a valve
-// under section `valve_section` (a part that occurs once, kept at its distance from the nearer end). With
+// under section `valve_section`, k from the left or -k from the right (a part that occurs once, kept at its
+// distance from the end it is counted from). With
 // `drift` > 0 the pitch grows along the row (section i at x = pitch (i + drift i (i - 1) / (2 (n - 1)))):
 // no two sections are exact copies, the mean pitch is pitch (1 + drift / 2), and there is no exact
 // ground truth (the family tests the fundamental period found).
@@ -564,7 +565,8 @@ inline SampleInfo radiator_info() {
            {"section_depth", 0.08, 0.02, 0.3, false, "depth of a section (z, m)"},
            {"header", 0.05, 0.02, 0.2, false, "height of the headers (m)"},
            {"valve", 1, 0, 1, true, "1: a valve under one section"},
-           {"valve_section", 1, 1, 60, true, "the section the valve hangs under (1: the first)"},
+           {"valve_section", 1, -60, 60, true,
+            "the section the valve hangs under: k from the left (1: the first), -k from the right"},
            {"drift", 0, 0, 0.1, false, "growth of the pitch from the first gap to the last (relative)"},
            {"detail", 1, 1, 64, true, "tessellation level: edges are cut every 0.05 m / detail"}}};
 }
@@ -573,8 +575,8 @@ template <class = void>
 Status radiator_check(const ParameterValues& v) {
   if (!(v["section_width"] < v["pitch"] - 0.004)) return constraint(false, "section_width must be less than pitch");
   if (!(2 * v["header"] < v["height"] - 0.05)) return constraint(false, "headers too tall for the height");
-  if (v["valve"] == 1 && !(v["valve_section"] <= v["sections"]))
-    return constraint(false, "valve_section must be at most sections");
+  if (v["valve"] == 1 && (v.count("valve_section") == 0 || std::abs(v.count("valve_section")) > v.count("sections")))
+    return constraint(false, "valve_section must be 1 to sections, or -1 to -sections (from the right)");
   return {};
 }
 
@@ -586,7 +588,8 @@ void radiator_build(const ParameterValues& v, restitch::detail::SampleMeshBuilde
   const double hd = 0.6 * sd, plug = 0.012;  // header depth, plug length
   const int iron = B.add_material(make_material("radiator", 0.93f, 0.93f, 0.91f, 0.2f, 0.4f));
   const int brass = B.add_material(make_material("valve", 0.78f, 0.62f, 0.30f, 1.0f, 0.3f));
-  const int valve_at = v.count("valve") == 1 ? v.count("valve_section") - 1 : -1;
+  const int vs = v.count("valve_section");
+  const int valve_at = v.count("valve") == 1 ? (vs > 0 ? vs - 1 : n + vs) : -1;
   const Blocks X{n};
   const auto at = [&](int i) {  // the start of section i's module
     return p * (double(i) + (n > 1 ? drift * double(i) * double(i - 1) / (2.0 * double(n - 1)) : 0.0));
@@ -597,7 +600,7 @@ void radiator_build(const ParameterValues& v, restitch::detail::SampleMeshBuilde
   out.counts = {n};
   out.modules = {n};
   if (valve_at >= 0)
-    out.parts = {{0, valve_at, valve_at, 2 * valve_at + 1 <= n ? "low end" : "high end", "valve"}};
+    out.parts = {{0, valve_at, valve_at, vs > 0 ? "low end" : "high end", "valve"}};
   for (int bx = -1; bx <= X.n; ++bx) {
     B.set_material(iron);
     if (!X.module(bx)) {
