@@ -198,25 +198,50 @@ MovedPlanes move_seams(CellSlabs& slabs, const Eigen::Array3i& k, const Eigen::A
       std::vector<std::int64_t> fail(2 * H + 1, 0), cut(2 * H + 1, 0), changed(2 * H + 1, 0), swept(2 * H + 1, 0);
       std::vector<char> valid(2 * H + 1, 1);
       std::vector<std::pair<int, int>> crossing;  // (axis b, plane) of the staircase seams
-      bool seam = false, blocked = false;
-      for (std::int64_t xi = 0; xi < out.size() && !blocked; ++xi) {
-        const Eigen::Array3i x = out.cell(xi);
-        if (x[a] != i - 1) continue;
-        Eigen::Array3i y = x;
-        y[a] = i;
-        // Staircases: the seams across b from each side's cell z (z, z + e_b), inside the strip a move of
-        // j / K sweeps (cells of column i for j > 0, of column i - 1 for j < 0), which then take the
-        // labels of the cells across the plane.
-        for (int side = 0; side < 2 && !blocked; ++side) {
-          const Eigen::Array3i z = side == 0 ? x : y, across = side == 0 ? y : x;
-          for (int b = 0; b < 3 && !blocked; ++b) {
-            if (b == a) continue;
+      bool seam = false;
+      // Each pair of cells across the plane: x in column i - 1, y in column i.
+      const auto each_pair = [&](auto&& f) {
+        for (std::int64_t xi = 0; xi < out.size(); ++xi) {
+          const Eigen::Array3i x = out.cell(xi);
+          if (x[a] != i - 1) continue;
+          Eigen::Array3i y = x;
+          y[a] = i;
+          f(x, y);
+        }
+      };
+      each_pair([&](const Eigen::Array3i& x, const Eigen::Array3i& y) {
+        for (const Eigen::Array3i& z : {x, y})
+          for (int b = 0; b < 3; ++b)
             for (const int step : {-1, 1}) {
               Eigen::Array3i n = z;
               n[b] += step;
-              if (out.inside(n) && (label(n) != label(z)).any())
+              if (b != a && out.inside(n) && (label(n) != label(z)).any())
                 crossing.emplace_back(b, step > 0 ? n[b] : z[b]);
             }
+        const Eigen::Array3i &di = label(x), &dj = label(y);
+        if ((di == dj).all()) return;
+        seam = true;
+        const CellSlabs::SeamPositions& p = slabs.seam_positions(x - di, a, dj - di, K);
+        for (std::size_t q = 0; q < valid.size(); ++q) {
+          fail[q] += p.fail[q];
+          cut[q] += p.cut[q];
+          changed[q] += p.changed[q];
+          valid[q] = char(valid[q] && p.valid[q]);
+        }
+      });
+      if (!seam || !valid[H] || fail[H] == 0) continue;
+      bool blocked = false;
+      for (const auto& [b, plane] : crossing)
+        blocked = blocked || (b < a && planes.moved(b) && planes.j[std::size_t(b)][std::size_t(plane)] != 0);
+      if (blocked) continue;
+      // Staircases: the seams across b from each side's cell z (z, z + e_b), inside the strip a move of
+      // j / K sweeps (cells of column i for j > 0, of column i - 1 for j < 0), which then take the labels
+      // of the cells across the plane: as they lie after the move less as they lay before.
+      each_pair([&](const Eigen::Array3i& x, const Eigen::Array3i& y) {
+        for (int side = 0; side < 2; ++side) {
+          const Eigen::Array3i z = side == 0 ? x : y, across = side == 0 ? y : x;
+          for (int b = 0; b < 3; ++b) {
+            if (b == a) continue;
             Eigen::Array3i n = z, n_across = across;
             n[b] += 1;
             n_across[b] += 1;
@@ -241,20 +266,7 @@ MovedPlanes move_seams(CellSlabs& slabs, const Eigen::Array3i& k, const Eigen::A
             }
           }
         }
-        const Eigen::Array3i &di = label(x), &dj = label(y);
-        if ((di == dj).all()) continue;
-        seam = true;
-        const CellSlabs::SeamPositions& p = slabs.seam_positions(x - di, a, dj - di, K);
-        for (std::size_t q = 0; q < valid.size(); ++q) {
-          fail[q] += p.fail[q];
-          cut[q] += p.cut[q];
-          changed[q] += p.changed[q];
-          valid[q] = char(valid[q] && p.valid[q]);
-        }
-      }
-      for (const auto& [b, plane] : crossing)
-        if (b < a && planes.moved(b) && planes.j[std::size_t(b)][std::size_t(plane)] != 0) blocked = true;
-      if (!seam || blocked || !valid[H] || fail[H] == 0) continue;
+      });
       for (std::size_t q = 0; q < fail.size(); ++q) fail[q] += swept[q];
       int best = H;
       const auto key = [&](int q) {
