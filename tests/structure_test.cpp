@@ -336,7 +336,7 @@ static void check_door_resize(Retargeter<>& r, const Result<families::SampleMode
 // ends, once: exact in place against the family at that size, no more open length, nothing warned. A resize
 // that would bring the door within the centre's band (2 from an end of 4) is left out: the rule then keeps
 // it centred where the family keeps it at its end. With the parts kept off (the paper's labelling) the 5 x 6
-// and 6 x 5 shelves grown by 2 come out with the door's column or row copied, without a warning
+// and 6 x 5 shelves grown by 2 come out wrong without a warning (the 5 x 6 by two columns: two doors)
 // (docs/results.md, A door in a grid).
 TEST_CASE("structure: a door over one compartment of a grid stays at its compartment counted from its ends",
           "[structure][samples]") {
