@@ -1280,15 +1280,24 @@ TEST_CASE("structure: a run of columns inside a key notch is no repeat where col
                                             {"base", 1.7765375675953854},   {"wall", 0.64157032844981554},
                                             {"notch_width", 4.465606631546577}, {"pin_size", 0.80690500720025715},
                                             {"pin_above", 7.168214543778296}, {"pin_below", 3.1363570338048938}};
-  for (const auto* set : {&set95, &set28}) {
+  // Set 149 (notch 2.83 pitches, the shroud 2.16 pitches past the outer pins): five cells, the notch's edge in
+  // pin 1's column past its end plane, and the columns of the other two pins copies of that column's periodic
+  // part. The run spans that part too, and lacks the front wall both ends have all along: a gap, and nothing
+  // else repeats. Wrong without a warning before a run could hold an end cell.
+  const std::map<std::string, double> set149{{"pitch", 2.0238696320017597}, {"shroud_end", 4.3716961736496822},
+                                             {"width", 10.157033914196507}, {"height", 11.436630963377095},
+                                             {"base", 2.331151114285865},   {"wall", 0.63884933150953849},
+                                             {"notch_width", 5.7194041090018661}, {"pin_size", 0.45656593690287184},
+                                             {"pin_above", 5.4909454048053732}, {"pin_below", 2.6054147613993028}};
+  for (const auto* set : {&set95, &set28, &set149}) {
     std::map<std::string, double> p = *set;
     p["columns"] = 3;
     const Family f = make("box_header", p);
     REQUIRE(f.axis >= 0);
     Retargeter<> r(f.sample.mesh, f.analysis);
     REQUIRE(r.structure());
-    CHECK(r.structure()->cells[f.axis] == 3);
-    CHECK((set == &set95 ? r.structure()->gap_run : r.structure()->end_read)[std::size_t(f.axis)]);
+    CHECK(r.structure()->cells[f.axis] == (set == &set149 ? 5 : 3));
+    CHECK((set == &set28 ? r.structure()->end_read : r.structure()->gap_run)[std::size_t(f.axis)]);
     INFO("notch " << p["notch_width"]);
     check_three_columns_warned(r, f, p);
   }

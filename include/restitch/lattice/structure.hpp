@@ -427,9 +427,15 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       }
       int j = i;
       while (j + 1 < n && copy_of[std::size_t(j + 1)] >= 0) ++j;
+      // Whole slabs inside the model, or an end slab compared over its periodic part, which is then what the
+      // run spans of it (a key notch whose edge lies in pin 1's column past its end plane: the columns of
+      // the other pins are copies of that column's periodic part).
       bool whole = true;
-      for (int m = i; m <= j; ++m) whole = whole && whole_slab(m) && m > 0 && m < n - 1;
-      if (whole && lacks_all_along(double(i), double(j + 1), Lack::wall_between_ends, &lacked))
+      for (int m = i; m <= j; ++m)
+        whole = whole && ((whole_slab(m) && m > 0 && m < n - 1) || (m == 0 && low_partial) ||
+                          (m == n - 1 && high_partial));
+      if (whole && lacks_all_along(std::max(double(i), lo_cmp), std::min(double(j + 1), hi_cmp), Lack::wall_between_ends,
+                                   &lacked))
         for (int m = i; m <= j; ++m) gap[std::size_t(m)] = 1, copy_of[std::size_t(m)] = -1;
       i = j + 1;
     }
