@@ -417,6 +417,8 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     // 2.10, A gap is no repeat). It is set aside while other slabs are found to repeat, next door or farther
     // apart around it, that have that surface (a box header's columns beside the notch, with their front
     // wall); where none is, it is kept, and the axis is marked (CellStructure::gap_run, warned "short repeat").
+    // An end slab compared over its periodic part (its other samples are the end's).
+    const auto partial = [&](int i) { return (i == 0 && low_partial) || (i == n - 1 && high_partial); };
     std::vector<char> gap(std::size_t(n), 0);
     std::vector<std::size_t> lacked;  // the samples of the surface the gaps lack
     const std::vector<int> next_door = copy_of;
@@ -432,8 +434,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       // the other pins are copies of that column's periodic part).
       bool whole = true;
       for (int m = i; m <= j; ++m)
-        whole = whole && ((whole_slab(m) && m > 0 && m < n - 1) || (m == 0 && low_partial) ||
-                          (m == n - 1 && high_partial));
+        whole = whole && ((whole_slab(m) && m > 0 && m < n - 1) || partial(m));
       if (whole && lacks_all_along(std::max(double(i), lo_cmp), std::min(double(j + 1), hi_cmp), Lack::wall_between_ends,
                                    &lacked))
         for (int m = i; m <= j; ++m) gap[std::size_t(m)] = 1, copy_of[std::size_t(m)] = -1;
@@ -801,7 +802,6 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     // not an end slab) and none is a copy of another; and the model's two sides of the run of repeating slabs
     // share a surface the run lacks all along (lacks_all_along, over the whole model). The run may then be a
     // gap in one part, not a repeat.
-    const auto partial = [&](int i) { return (i == 0 && low_partial) || (i == n - 1 && high_partial); };
     bool through_end = false, whole_copies = false;
     int r0 = n, r1 = -1;  // the run of repeating slabs
     for (int i = 0; i < n; ++i) {
