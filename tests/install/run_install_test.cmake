@@ -1,10 +1,14 @@
 # The README's three ways into the library, each in a fresh folder, each building and running the
 # consumer program (consumer/main.cpp: glTF round trip, analysis, one resize):
-#   1. cmake --install to a prefix (the README's commands: tests, examples and bench off; the tool is
-#      built and installed), then find_package(restitch) from a consumer project, linking
+#   1. the installed package: the README's configure (tests, examples and bench off) must configure; the
+#      package is then installed from the tree this test belongs to (BUILD_DIR, already built: the same
+#      library and tool targets, built with the same flags, so building them a second time would check
+#      nothing more), and a consumer project uses it with find_package(restitch), linking
 #      restitch::compiled (which carries restitch::restitch's interface);
-#   2. add_subdirectory of the source tree, header-only (restitch::compiled is then not built);
-#   3. plain compiler flags: -I include and the Debian packages' headers, header-only.
+#   2. add_subdirectory of the source tree, header-only (restitch::compiled is then not built): the
+#      program's whole pipeline compiled from the headers;
+#   3. plain compiler flags, the README's command line, in the compiled mode: -DRESTITCH_COMPILED and the
+#      installed library of way 1 (the same program compiled header-only is way 2's).
 # With -DTOOLCHAIN=<Emscripten's toolchain file>, only way 2, configured with that toolchain as
 # `emcmake cmake` does, its program run by plain node.
 # Fails naming the step that failed.
@@ -38,8 +42,10 @@ endif()
 # 1. Installed package.
 run(${CMAKE_COMMAND} -S "${SOURCE_DIR}" -B "${WORK_DIR}/lib" -G "${GENERATOR}" -DCMAKE_BUILD_TYPE=Release
     -DRESTITCH_BUILD_TESTS=OFF -DRESTITCH_BUILD_EXAMPLES=OFF -DRESTITCH_BUILD_BENCH=OFF)
-run(${CMAKE_COMMAND} --build "${WORK_DIR}/lib" ${jobs})
-run(${CMAKE_COMMAND} --install "${WORK_DIR}/lib" --prefix "${WORK_DIR}/prefix")
+if(NOT EXISTS "${WORK_DIR}/lib/restitchConfig.cmake" OR EXISTS "${WORK_DIR}/lib/tests")
+  message(FATAL_ERROR "the README's configure did not write the package config, or configured the tests")
+endif()
+run(${CMAKE_COMMAND} --install "${BUILD_DIR}" --prefix "${WORK_DIR}/prefix")
 foreach(f include/restitch/restitch.hpp include/restitch/instantiate.hpp bin/restitch)
   if(NOT EXISTS "${WORK_DIR}/prefix/${f}")
     message(FATAL_ERROR "cmake --install did not install ${f}")
@@ -60,7 +66,8 @@ if(EXISTS "${WORK_DIR}/subdirectory/restitch/librestitch_compiled.a")
 endif()
 expect_ok("${WORK_DIR}/subdirectory/consumer")
 
-# 3. Plain compiler flags (the README's command line).
-run(${CXX} -std=c++17 -O2 -I "${SOURCE_DIR}/include" -I /usr/include/eigen3 "${SOURCE_DIR}/tests/install/consumer/main.cpp"
-    -pthread -o "${WORK_DIR}/plain")
+# 3. Plain compiler flags (the README's command line), in the compiled mode.
+file(GLOB compiled_library "${WORK_DIR}/prefix/lib*/librestitch_compiled.a")
+run(${CXX} -std=c++17 -O2 -DRESTITCH_COMPILED -I "${SOURCE_DIR}/include" -I /usr/include/eigen3
+    "${SOURCE_DIR}/tests/install/consumer/main.cpp" ${compiled_library} -pthread -o "${WORK_DIR}/plain")
 expect_ok("${WORK_DIR}/plain")
