@@ -68,6 +68,9 @@ expect_ok("${WORK_DIR}/subdirectory/consumer")
 
 # 3. Plain compiler flags (the README's command line), in the compiled mode.
 file(GLOB compiled_library "${WORK_DIR}/prefix/lib*/librestitch_compiled.a")
+if(NOT compiled_library)
+  message(FATAL_ERROR "cmake --install did not install librestitch_compiled.a")
+endif()
 run(${CXX} -std=c++17 -O2 -DRESTITCH_COMPILED -I "${SOURCE_DIR}/include" -I /usr/include/eigen3
     "${SOURCE_DIR}/tests/install/consumer/main.cpp" ${compiled_library} -pthread -o "${WORK_DIR}/plain")
 expect_ok("${WORK_DIR}/plain")
