@@ -1044,6 +1044,47 @@ TEST_CASE("structure: cells of plain wall past the last pin are not taken as rep
   }
 }
 
+TEST_CASE("structure: two cells plain where compared are no copies, though one's difference lies in the other's end",
+          "[structure][samples]") {
+  // A chest whose tall drawer is 2.56 drawer pitches tall (bench section 8, set 148): the first cell holds the
+  // plinth and the tall front's lower part, its periodic part plain front from half the cell; the next holds
+  // the tall front's handle, which moved one period down lands in the first cell's end, not compared. Plain
+  // where compared, and neither a copy of a third cell, the two are no copies (method.md 2.10, Plain
+  // neighbours): the tall drawer and the plinth are one part at the low end, the top the other. Read as
+  // copies, 3 drawers grown to 5 gave 4 short drawers and a tall one with two handles, without a warning. (A
+  // bookshelf's last compartment and its end cell, plain where compared too, repeat: the end cell is a copy
+  // of another compartment; the door tests above.)
+  const std::map<std::string, double> lengths{
+      {"drawer_height", 0.14375304843535269}, {"tall_height", 0.36871103280890333}, {"width", 0.49557267248094505},
+      {"depth", 0.56280579033467459},         {"panel", 0.023204638759749509},      {"plinth", 0.10058972974054226},
+      {"gap", 0.0036749653821215355},         {"handle_width", 0.15148158836035713}};
+  const auto with = [&](int drawers) {
+    std::map<std::string, double> p = lengths;
+    p["drawers"] = drawers;
+    return p;
+  };
+  const Family three = make("cabinet", with(3));
+  REQUIRE(three.axis >= 0);
+  Retargeter<> r(three.sample.mesh, three.analysis);
+  REQUIRE(r.structure());
+  const CellStructure& st = *r.structure();
+  REQUIRE(st.end_inside_low[std::size_t(three.axis)]);
+  const SingularPart* low = st.part_of(three.axis, 0);
+  REQUIRE(low);
+  CHECK(low->anchor == PartAnchor::low);
+  const int first_short = slab_of(three, 0);  // the middle of the first short drawer
+  CHECK(first_short >= 3);
+  CHECK(st.repeats(three.axis, first_short));
+  for (int i = 0; i < first_short; ++i) CHECK(st.part_of(three.axis, i) == low);  // the plinth and tall drawer
+  for (const int m : {2, 4, 5}) {
+    INFO("3 drawers to " << m);
+    auto out = r.retarget(family_steps(three, m - 3));
+    REQUIRE(out.ok());
+    CHECK(out->report.warnings.empty());
+    check_in_place(out->mesh, families::generate("cabinet", with(m))->mesh);
+  }
+}
+
 // At 2 modules no whole slab of the pair's lattice is a copy of another (each holds a post): the pair is
 // taken as two copies that pair vertex for vertex (method.md 1.12, Two copies of a multiple), and every grow
 // is the railing of that count in place, without a warning (undecided axis and open seams before).

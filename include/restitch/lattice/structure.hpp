@@ -319,14 +319,33 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     // sample spacing (a period is at least a spacing, 1.12), and at least twice the tolerance, so that a
     // surface across a moved by it lands off itself.
     const double slide = std::max(0.5 * spacing, 2 * s.tolerance) / v.norm();
-    const auto plain_shift = [&](int from, double shift) {
+    // `toward` (+1 or -1 slabs away, 0 for every sample): only the samples the comparison with that slab
+    // looked at, those it moved inside the periodic part (`lands`).
+    const auto plain_shift = [&](int from, double shift, int toward = 0) {
       for (const std::size_t k : slab[std::size_t(from)]) {
-        const double t = canonical[k][a] + shift;
+        const double t = canonical[k][a] + shift, there = canonical[k][a] + toward;
+        if (toward != 0 && (there < lo_cmp || there >= hi_cmp)) continue;
         if (t >= lo_cmp && t < hi_cmp && off_surface(k, shift)) return false;
       }
       return true;
     };
     const auto plain = [&](int i) { return plain_shift(i, slide) && plain_shift(i + 1, -slide); };
+    // An end slab compared over its periodic part, and its neighbour, plain where compared: what tells them
+    // apart, if anything, is the neighbour's content that lands in the end, not compared (the handle of a
+    // tall drawer's front, over the plinth's cell whose periodic part is plain front). Their being copies
+    // then says no more than plain neighbours' do; they are taken as copies only where one of them is a copy
+    // of a third slab too, so that what they hold repeats past the pair (a bookshelf's last compartment,
+    // whose divider lands in the side panel's cell, and whose end cell is a copy of another compartment's).
+    // docs/method.md 2.10, Plain neighbours.
+    const auto plain_compared = [&](int i) {
+      const bool end_read = (i == 0 && low_partial) || (i + 1 == n - 1 && high_partial);
+      return end_read && plain_shift(i, slide, 1) && plain_shift(i + 1, -slide, -1);
+    };
+    const auto copy_of_third = [&](int i) {
+      for (int j = 0; j < n; ++j)
+        if (j != i && j != i + 1 && (copies(i, j) || copies(i + 1, j))) return true;
+      return false;
+    };
     // Slab i alone: its samples moved either way by the slide, those still inside it, land on the surface.
     // Moved past its planes they would meet its neighbours' content (a key notch's edge a hundredth of a
     // pitch past the plane of a cell of plain wall), which says nothing of whether its own content changes.
@@ -342,7 +361,8 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     std::vector<int>& copy_of = s.copy_of[std::size_t(a)];
     copy_of.assign(std::size_t(n), -1);
     for (int i = 0; i + 1 < n; ++i)
-      if (copies(i, i + 1) && !plain(i)) {
+      if (copies(i, i + 1) && !plain(i) &&
+          (!plain_compared(i) || copy_of_third(i))) {
         if (copy_of[std::size_t(i)] < 0) copy_of[std::size_t(i)] = i + 1;
         copy_of[std::size_t(i + 1)] = i;
       }
