@@ -361,8 +361,7 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     std::vector<int>& copy_of = s.copy_of[std::size_t(a)];
     copy_of.assign(std::size_t(n), -1);
     for (int i = 0; i + 1 < n; ++i)
-      if (copies(i, i + 1) && !plain(i) &&
-          (!plain_compared(i) || copy_of_third(i))) {
+      if (copies(i, i + 1) && !plain(i) && (!plain_compared(i) || copy_of_third(i))) {
         if (copy_of[std::size_t(i)] < 0) copy_of[std::size_t(i)] = i + 1;
         copy_of[std::size_t(i + 1)] = i;
       }
