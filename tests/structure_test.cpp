@@ -68,6 +68,12 @@ int slab_of(const Family& f, int block) {
   return std::clamp(int(std::floor(c[f.axis])), 0, L.cells[f.axis] - 1);
 }
 
+// A family's lengths with its count (pins, drawers, ...) set to n.
+std::map<std::string, double> with_count(std::map<std::string, double> lengths, const std::string& count, int n) {
+  lengths[count] = n;
+  return lengths;
+}
+
 PartAnchor anchor_named(const std::string& a) {
   return a == "low end" ? PartAnchor::low : a == "high end" ? PartAnchor::high : PartAnchor::centre;
 }
@@ -909,11 +915,7 @@ TEST_CASE("structure: a module in the end cell, past its end plane, is compared 
   for (const Lengths& lengths : {Lengths{{"pitch", 2.54}, {"wall", 2.696}},
                                  Lengths{{"pitch", 2.5}, {"wall", 2.45}, {"opening", 1.2}, {"slot_width", 1.0}}}) {
     INFO("pitch " << lengths.at("pitch") << ", wall " << lengths.at("wall"));
-    const auto with = [&](int pins) {
-      Lengths p = lengths;
-      p["pins"] = pins;
-      return p;
-    };
+    const auto with = [&](int pins) { return with_count(lengths, "pins", pins); };
     const Family f = make("connector", with(3));
     REQUIRE(f.axis >= 0);
     Retargeter<> r(f.sample.mesh, f.analysis);
@@ -1000,11 +1002,7 @@ TEST_CASE("structure: cells of plain wall past the last pin are not taken as rep
   // (method.md 2.10, The plain one repeats: the cell of wall and key before pin 1 is no copy of a pin's), with
   // 5 only the plain pins do, and the resizes are the family's at those counts, in place.
   const std::map<std::string, double> lengths{{"pitch", 1.833}, {"wall", 4.041}, {"opening", 1.2}};
-  const auto with = [&](int pins) {
-    std::map<std::string, double> p = lengths;
-    p["pins"] = pins;
-    return p;
-  };
+  const auto with = [&](int pins) { return with_count(lengths, "pins", pins); };
   const Family three = make("connector", with(3));
   REQUIRE(three.axis >= 0);
   CHECK(std::abs(three.analysis.lattice.A.col(three.axis).norm() - 1.833) < 1e-3);
@@ -1058,11 +1056,7 @@ TEST_CASE("structure: two cells plain where compared are no copies, though one's
       {"drawer_height", 0.14375304843535269}, {"tall_height", 0.36871103280890333}, {"width", 0.49557267248094505},
       {"depth", 0.56280579033467459},         {"panel", 0.023204638759749509},      {"plinth", 0.10058972974054226},
       {"gap", 0.0036749653821215355},         {"handle_width", 0.15148158836035713}};
-  const auto with = [&](int drawers) {
-    std::map<std::string, double> p = lengths;
-    p["drawers"] = drawers;
-    return p;
-  };
+  const auto with = [&](int drawers) { return with_count(lengths, "drawers", drawers); };
   const Family three = make("cabinet", with(3));
   REQUIRE(three.axis >= 0);
   Retargeter<> r(three.sample.mesh, three.analysis);
