@@ -1622,6 +1622,32 @@ TEST_CASE("structure: a run of two slats out of phase with the cells repeats, an
   }
 }
 
+TEST_CASE("structure: a rail half a pitch from its slats stays where whole periods put it, and each run grows from "
+          "its own slabs",
+          "[structure][samples]") {
+  // A 0.0511 rail at a 0.0822 pitch (bench section 8, set 121): the slats sit mid-module, so the slat next to
+  // the rail lies half a period from it. Moving the rail that half period alone (docs/method.md 2.10, A
+  // centred part moved half a period) put it where that slat was: 4 slats to 3 gave 1 below the rail and 2
+  // above, without a warning; the move now stops where it would take the place of content that repeats.
+  // The cell planes cut only the stiles, so every seam is free, and a grow from 5 to 10 filled the upper run
+  // with copies of the lower one, whose slats lie a rail's length less a pitch out of step with it: the
+  // slats between two parts are now copied only from between them (Runs keep their side).
+  const std::map<std::string, double> lengths{{"pitch", 0.0822},  {"width", 0.647},  {"stile", 0.0533},
+                                              {"rail", 0.0511},   {"slat_thickness", 0.0103}};
+  const auto with = [&](int slats) { return with_count(lengths, "slats", slats); };
+  for (const auto& [n, m] : std::vector<std::pair<int, int>>{{4, 3}, {6, 3}, {5, 10}, {5, 4}}) {
+    INFO(n << " slats to " << m);
+    const Family f = make("shutter", with(n));
+    REQUIRE(f.axis >= 0);
+    REQUIRE(std::abs(f.analysis.lattice.A.col(f.axis).norm() - lengths.at("pitch")) < 1e-4);
+    Retargeter<> r(f.sample.mesh, f.analysis);
+    auto out = r.retarget(family_steps(f, m - n));
+    REQUIRE(out.ok());
+    for (const PartReport& p : out->report.parts) CHECK(p.half == 0);
+    check_in_place(out->mesh, families::generate("shutter", with(m))->mesh);
+  }
+}
+
 TEST_CASE("structure: a part that is a copy of the next part is marked repeated, a part alone is not", "[structure]") {
   // Ten posts one apart; posts 2 and 6 carry the same cap, post 8 a taller one. On the posts' period the
   // three capped posts are parts (no neighbour is a copy); the caps of 2 and 6 are copies of each other.

@@ -204,6 +204,30 @@ class SeamMrf {
     if (place) pins_[std::size_t(a)].push_back({slab + shift, shift});
   }
 
+  /// Runs between parts (docs/method.md 2.10, Runs keep their side): along resized axis a, `input_run[j]`
+  /// is the run of input slab j (-1: a part's slab) and `output_run[x]` the run output slab x lies in (-1:
+  /// a part's place). An output slab of run r copying an input slab of another run costs `forbidden`,
+  /// where run r has input slabs of its own. Added to the unary table.
+  template <class = void>
+  void keep_runs(int a, const std::vector<int>& input_run, const std::vector<int>& output_run) {
+    const int n = node_count(), m = label_count();
+    std::vector<char> held(input_run.size() + 1, 0);  // runs that hold input slabs
+    for (const int r : input_run)
+      if (r >= 0 && std::size_t(r) < held.size()) held[std::size_t(r)] = 1;
+    for (int x = 0; x < n; ++x) {
+      const Eigen::Array3i cx = out_.cell(x);
+      if (cx[a] < 0 || std::size_t(cx[a]) >= output_run.size()) continue;
+      const int r = output_run[std::size_t(cx[a])];
+      if (r < 0 || std::size_t(r) >= held.size() || !held[std::size_t(r)]) continue;
+      for (int l = 0; l < m; ++l) {
+        const int j = cx[a] - labels_[std::size_t(l)][a];
+        if (j >= 0 && std::size_t(j) < input_run.size() && input_run[std::size_t(j)] >= 0 &&
+            input_run[std::size_t(j)] != r)
+          unary_[std::size_t(x) * std::size_t(m) + std::size_t(l)] += forbidden_;
+      }
+    }
+  }
+
   // ---- the labelling-problem contract ----
   int node_count() const { return int(out_.size()); }
   int label_count() const { return int(labels_.size()); }

@@ -9,7 +9,9 @@
 //
 //   * Seeds: the cells within a sample spacing of the part's content (SingularPart::content, moved with
 //     the part's shift) where R has it and where it belongs, half a period on. The region S they start
-//     copies R moved by that half period h.
+//     copies R moved by that half period h. Where the part goes, what R has that R moved lacks is lost:
+//     content that repeats at the period and crosses the axis (a slat half a period from a rail) stops
+//     the move.
 //   * Coincide, in a box: every sample of R in it, moved back by h, lies on R within the structure's
 //     tolerance, and so does every sample that h moves into it (R and R moved are the same surface there).
 //   * Flood: across a face of S where R and R moved do not coincide (the face grown by one sample spacing
@@ -208,18 +210,40 @@ Status centre_part_at(const Mesh& R, const Lattice& grid, const Eigen::Array3i& 
   };
   // A content sample stands for the surface within a spacing of it: every cell that reaches that near is a
   // seed (a notch's side whose lowest strip lies in the cell below its samples).
+  std::vector<char> where_it_is(std::size_t(G.size()), 0);  // seeds at the part's place in R
   for (const Eigen::Vector3d& q : p.content) {
     const Eigen::Vector3d at = q + double(d) * v;
-    for (const Eigen::Vector3d& y : {at, Eigen::Vector3d(at + h)}) {
-      const Eigen::Array3d t = (Finv * (y - F.origin)).array();
+    for (const int there : {0, 1}) {
+      const Eigen::Array3d t = (Finv * (at + double(there) * h - F.origin)).array();
       Eigen::Array3i c0, c1;
       for (int e = 0; e < 3; ++e)
         c0[e] = std::clamp(int(std::floor(t[e] - reach[e])), 0, F.cells[e] - 1),
         c1[e] = std::clamp(int(std::floor(t[e] + reach[e])), 0, F.cells[e] - 1);
       for (int z = c0[2]; z <= c1[2]; ++z)
         for (int yy = c0[1]; yy <= c1[1]; ++yy)
-          for (int x = c0[0]; x <= c1[0]; ++x)
+          for (int x = c0[0]; x <= c1[0]; ++x) {
             if (!add(Eigen::Array3i(x, yy, z))) return {};
+            if (!there) where_it_is[std::size_t(G.index(x, yy, z))] = 1;
+          }
+    }
+  }
+  // Where the part goes, the move replaces R by R moved. What R has there and R moved lacks is lost; where
+  // that is content repeating at the period (on R a period up or down) and not plain (moved along the axis
+  // by the structure's plain shift, half a spacing and at least twice the tolerance, it leaves the
+  // surface: it crosses the axis), the part would take the place of a slat or a pin of the run beside it
+  // (a rail half a period from the next slat).
+  {
+    const Eigen::Vector3d u = v / period * std::max(0.5 * o.spacing, 2 * o.tolerance);
+    for (std::int64_t x = 0; x < G.size(); ++x) {
+      if (!in_s[std::size_t(x)] || where_it_is[std::size_t(x)]) continue;
+      for (const std::uint32_t i : by_cell[std::size_t(x)]) {
+        const Eigen::Vector3d& q = pts[i];
+        if (on(q - h) || (on(q + u) && on(q - u))) continue;
+        if (on(q + v) || on(q - v)) {
+          how = CentringTry::stopped_at_content;
+          return {};
+        }
+      }
     }
   }
   // The flood: a face across which R and R moved differ takes the cell beyond into S.

@@ -146,7 +146,8 @@ inline constexpr double separable_budget = double(1 << 20);
 /// of `structure` (null: none) kept once (2.10): every slab of a part along a resized axis is copied only
 /// with the part's shift (CellStructure::shift_of), and placed there, an end slab too (the anchored ends
 /// only pull toward it, and an end cap starts at an end plane that a thin part can lie beyond), except on
-/// an output one cell long, where both ends' caps meet in that cell.
+/// an output one cell long, where both ends' caps meet in that cell; the other slabs between two parts are
+/// copied only between those parts' places (SeamMrf::keep_runs).
 template <class = void>
 SeamMrf make_seam_problem(CellDescriptors& cells, CellSlabs& slabs, const Lattice& grid, const RetargetOptions& options,
                           const CellStructure* structure, const Eigen::Array3i& k) {
@@ -160,6 +161,32 @@ SeamMrf make_seam_problem(CellDescriptors& cells, CellSlabs& slabs, const Lattic
       const int d = CellStructure::shift_of(p, k[a]);
       const bool one_cell = grid.cells[a] + k[a] == 1;  // both ends' caps meet in the one output cell
       for (int j = p.first; j <= p.last; ++j) problem.pin_slab(a, j, d, !one_cell);
+    }
+  // Runs keep their side (2.10): the slabs between two parts are copied only between those parts' places.
+  if (structure)
+    for (int a = 0; a < 3; ++a) {
+      if (k[a] == 0) continue;
+      std::vector<const SingularPart*> along;
+      for (const SingularPart& p : structure->parts)
+        if (p.axis == a) along.push_back(&p);
+      if (along.empty()) continue;
+      std::sort(along.begin(), along.end(), [](const SingularPart* x, const SingularPart* y) { return x->first < y->first; });
+      const int in_n = grid.cells[a], out_n = grid.cells[a] + k[a];
+      if (out_n <= 0) continue;
+      std::vector<int> input_run(std::size_t(in_n), 0), output_run(std::size_t(out_n), 0);
+      const auto runs = [&](std::vector<int>& run, bool output) {
+        for (int x = 0; x < int(run.size()); ++x) {
+          int r = 0;
+          for (const SingularPart* p : along) {
+            const int d = output ? CellStructure::shift_of(*p, k[a]) : 0;
+            if (x >= p->first + d && x <= p->last + d) r = -1;
+            if (r >= 0 && x > p->last + d) ++r;
+          }
+          run[std::size_t(x)] = r;
+        }
+      };
+      runs(input_run, false), runs(output_run, true);
+      problem.keep_runs(a, input_run, output_run);
     }
   return problem;
 }
