@@ -1077,6 +1077,19 @@ TEST_CASE("structure: two cells plain where compared are no copies, though one's
     CHECK(out->report.warnings.empty());
     check_in_place(out->mesh, families::generate("cabinet", with(m))->mesh);
   }
+  // From 2 short drawers the plinth's cell and the top's, both read over their periodic parts, are plain
+  // front where compared and copies of each other: at any shift, so no third copy, and the tall front's two
+  // cells stay no copies (grown, the tall drawer had two handles, without a warning).
+  const Family two = make("cabinet", with(2));
+  REQUIRE(two.axis >= 0);
+  Retargeter<> r2(two.sample.mesh, two.analysis);
+  for (const int m : {3, 4, 7}) {
+    INFO("2 drawers to " << m);
+    auto out = r2.retarget(family_steps(two, m - 2));
+    REQUIRE(out.ok());
+    CHECK(out->report.warnings.empty());
+    check_in_place(out->mesh, families::generate("cabinet", with(m))->mesh);
+  }
 }
 
 // At 2 modules no whole slab of the pair's lattice is a copy of another (each holds a post): the pair is

@@ -20,8 +20,8 @@
 //    at that count (bounding box and surface distance within 1e-4 of the diagonal; open boundary length; results
 //    with open edges that are no copies of the input's)
 // 8. parameters (not with --quick): the families with their lengths drawn within 0.7..1.3 of the defaults (six
-//    seeded sets; --seeds FIRST..LAST for others), from 3, 5 and 7 modules to n - 1 and n + 2, judged as in 7; what is not exact (or warned) is printed
-//    with its parameters
+//    seeded sets; --seeds FIRST..LAST for others), from 3, 5 and 7 modules (--from) to n - 1 and n + 2 (--to FIRST..LAST:
+//    every count there), judged as in 7; what is not exact (or warned) is printed with its parameters
 // 9. vertex_repeats (not with --quick): the analysis time without and with the repeats of the vertices
 //    (docs/method.md 1.14), each family at its defaults and each real model of --models DIR
 // 10. long (not with --quick): every family at 12 to 40 modules, resized to n - 1 and n + 2 and judged as in 7,
@@ -41,6 +41,7 @@
 #include <fstream>
 #include <map>
 #include <random>
+#include <sstream>
 #include <sys/resource.h>
 #include <optional>
 #include <string>
@@ -680,11 +681,32 @@ void bench_counts(nlohmann::json& out) {
 // Every result that is not exact, or exact and warned, is printed with its parameters, for `restitch sample`.
 // The variants of section 7 too, their integer parameters kept.
 unsigned seed_first = 1, seed_last = 6;  // --seeds FIRST..LAST: section 8's parameter sets
+std::vector<int> from_counts = {3, 5, 7};  // --from N[,N...]: section 8's counts resized
+int to_first = 0, to_last = -1;            // --to FIRST..LAST: every count there but n; default n - 1 and n + 2
+
+// "4,5,6" into counts of at least 1; false on anything else.
+bool parse_counts(const char* text, std::vector<int>& counts) {
+  std::vector<int> read;
+  std::string item;
+  std::istringstream in(text);
+  while (std::getline(in, item, ',')) {
+    char* end = nullptr;
+    const long n = std::strtol(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0' || n < 1 || n > 1000) return false;
+    read.push_back(int(n));
+  }
+  if (read.empty()) return false;
+  counts = read;
+  return true;
+}
 
 void bench_parameters(nlohmann::json& out) {
-  std::printf("\n== other parameters (sets %u..%u of lengths within 0.7..1.3 of the defaults; from 3, 5, 7 modules to n - 1, "
-              "n + 2)\n",
-              seed_first, seed_last);
+  std::string from;
+  for (const int n : from_counts) from += (from.empty() ? "" : ", ") + std::to_string(n);
+  const std::string to = to_first <= to_last ? "every count from " + std::to_string(to_first) + " to " + std::to_string(to_last)
+                                             : std::string("n - 1, n + 2");
+  std::printf("\n== other parameters (sets %u..%u of lengths within 0.7..1.3 of the defaults; from %s modules to %s)\n",
+              seed_first, seed_last, from.c_str(), to.c_str());
   for (const Variant& variant : count_variants()) {
     const std::string& name = variant.name;
     families::SampleInfo info;
@@ -707,7 +729,7 @@ void bench_parameters(nlohmann::json& out) {
         std::snprintf(b, sizeof b, " --%s %.17g", q.name.c_str(), params[q.name]);
         args += b;
       }
-      for (const int n : {3, 5, 7}) {
+      for (const int n : from_counts) {
         std::map<std::string, double> at = params;
         at[count] = n;
         Prepared p = prepare(name, at);
@@ -717,7 +739,13 @@ void bench_parameters(nlohmann::json& out) {
         }
         std::optional<Retargeter<>> r;
         if (p.axis >= 0) r.emplace(p.sample->mesh, *p.analysis);
-        for (const int m : {n - 1, n + 2}) {
+        std::vector<int> targets = {n - 1, n + 2};
+        if (to_first <= to_last) {
+          targets.clear();
+          for (int m = to_first; m <= to_last; ++m)
+            if (m != n) targets.push_back(m);
+        }
+        for (const int m : targets) {
           at[count] = m;
           auto truth = families::generate(name, at);
           if (!truth.ok()) {
@@ -847,11 +875,17 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc &&
              std::sscanf(argv[++i], "%u..%u", &seed_first, &seed_last) == 2 && seed_first >= 1 && seed_first <= seed_last)
       continue;
+    else if (!std::strcmp(argv[i], "--to") && i + 1 < argc &&
+             std::sscanf(argv[++i], "%d..%d", &to_first, &to_last) == 2 && to_first >= 1 && to_first <= to_last)
+      continue;
+    else if (!std::strcmp(argv[i], "--from") && i + 1 < argc && parse_counts(argv[++i], from_counts))
+      continue;
     else
       return std::fprintf(stderr,
                           "usage: bench [--quick] [--json FILE] [--models DIR] [--only "
                           "analysis|shot|comparison|scaling|synthetic|detectors|counts|parameters|vertex_repeats|long] [--family NAME]\n"
-                          "             [--seeds FIRST..LAST (section 8's parameter sets, default 1..6)]\n"),
+                          "             [--seeds FIRST..LAST (section 8's parameter sets, default 1..6)]\n"
+                          "             [--from N[,N...] (section 8's counts, default 3,5,7)] [--to FIRST..LAST (every count there; default n - 1, n + 2)]\n"),
              2;
   }
   const auto run = [&](const char* section) { return only.empty() || only == section; };

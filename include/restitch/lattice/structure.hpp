@@ -341,9 +341,20 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       const bool end_read = (i == 0 && low_partial) || (i + 1 == n - 1 && high_partial);
       return end_read && plain_shift(i, slide, 1) && plain_shift(i + 1, -slide, -1);
     };
+    // Two end slabs, both compared over their periodic parts and plain there (a chest's plinth cell and its
+    // top's, plain front), are copies at any shift: as a third copy, or as a copy farther away, they say
+    // nothing. A whole slab a copy of an end slab does (the bookshelf's compartment).
+    const auto plain_ends = [&](int i, int j) {
+      const auto end_read = [&](int e) { return (e == 0 && low_partial) || (e == n - 1 && high_partial); };
+      if (!end_read(i) || !end_read(j)) return false;
+      const double toward = j > i ? slide : -slide;
+      return plain_shift(i, toward, j - i) && plain_shift(j, -toward, i - j);
+    };
     const auto copy_of_third = [&](int i) {
       for (int j = 0; j < n; ++j)
-        if (j != i && j != i + 1 && (copies(i, j) || copies(i + 1, j))) return true;
+        if (j != i && j != i + 1 &&
+            ((copies(i, j) && !plain_ends(i, j)) || (copies(i + 1, j) && !plain_ends(i + 1, j))))
+          return true;
       return false;
     };
     // Slab i alone: its samples moved either way by the slide, those still inside it, land on the surface.
@@ -651,12 +662,14 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
       }
     }
     // A slab that repeats next door is periodic. One that does not may still be a copy of a periodic one
-    // farther away (a box header's plain column beside the shroud's end, whose neighbour has the notch).
+    // farther away (a box header's plain column beside the shroud's end, whose neighbour has the notch),
+    // unless the two are end slabs plain where compared (copies at any shift, as above).
     const std::vector<int> periodic = copy_of;
     for (int i = 0; i < n; ++i)
       for (int d = 2; d < n && copy_of[std::size_t(i)] < 0; ++d)
         for (const int j : {i - d, i + d})
-          if (j >= 0 && j < n && periodic[std::size_t(j)] >= 0 && copy_of[std::size_t(i)] < 0 && copies(i, j))
+          if (j >= 0 && j < n && periodic[std::size_t(j)] >= 0 && copy_of[std::size_t(i)] < 0 && copies(i, j) &&
+              !plain_ends(i, j))
             copy_of[std::size_t(i)] = j;
     // Where a part's own content lies along a (docs/method.md 2.10, Anchors): the positions whose surface differs
     // from the surface one period either side, over the part's slabs and one slab either side of them
