@@ -337,15 +337,14 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     // of a third slab too, so that what they hold repeats past the pair (a bookshelf's last compartment,
     // whose divider lands in the side panel's cell, and whose end cell is a copy of another compartment's).
     // docs/method.md 2.10, Plain neighbours.
+    const auto end_read = [&](int e) { return (e == 0 && low_partial) || (e == n - 1 && high_partial); };
     const auto plain_compared = [&](int i) {
-      const bool end_read = (i == 0 && low_partial) || (i + 1 == n - 1 && high_partial);
-      return end_read && plain_shift(i, slide, 1) && plain_shift(i + 1, -slide, -1);
+      return (end_read(i) || end_read(i + 1)) && plain_shift(i, slide, 1) && plain_shift(i + 1, -slide, -1);
     };
     // Two end slabs, both compared over their periodic parts and plain there (a chest's plinth cell and its
     // top's, plain front), are copies at any shift: as a third copy, or as a copy farther away, they say
     // nothing. A whole slab a copy of an end slab does (the bookshelf's compartment).
     const auto plain_ends = [&](int i, int j) {
-      const auto end_read = [&](int e) { return (e == 0 && low_partial) || (e == n - 1 && high_partial); };
       if (!end_read(i) || !end_read(j)) return false;
       const double toward = j > i ? slide : -slide;
       return plain_shift(i, toward, j - i) && plain_shift(j, -toward, i - j);
