@@ -676,8 +676,8 @@ void bench_counts(nlohmann::json& out) {
 
 // Section 8: the families away from their defaults. Per family, six parameter sets (seeds 1..6, or --seeds): every length
 // parameter drawn uniformly from 0.7 to 1.3 times its default (clamped to its range; counts and detail kept),
-// each generated at 3, 5 and 7 modules and resized to the size of the family at n - 1 and n + 2 modules, judged
-// as in section 7. A set the family refuses at a count (parameters that do not fit together) is skipped there.
+// each generated at 3, 5 and 7 modules (--from) and resized to the size of the family at n - 1 and n + 2 modules
+// (--to FIRST..LAST: at every count there but n), judged as in section 7. A set the family refuses at a count (parameters that do not fit together) is skipped there.
 // Every result that is not exact, or exact and warned, is printed with its parameters, for `restitch sample`.
 // The variants of section 7 too, their integer parameters kept.
 unsigned seed_first = 1, seed_last = 6;  // --seeds FIRST..LAST: section 8's parameter sets
