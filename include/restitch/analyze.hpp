@@ -669,6 +669,37 @@ bool repeated_inner_part(const CellStructure& s, int a) {
   });
 }
 
+/// The slabs the parts along lattice axis a take, in all.
+template <class = void>
+int part_slabs(const CellStructure& s, int a) {
+  int n = 0;
+  for (const SingularPart& p : s.parts)
+    if (p.axis == a) n += p.last - p.first + 1;
+  return n;
+}
+
+/// part_slabs where some part along lattice axis a kept at an end takes more than one slab, else -1
+/// (docs/method.md 1.7, An end part cut by a plane).
+template <class = void>
+int split_part_slabs(const CellStructure& s, int a) {
+  const bool split = std::any_of(s.parts.begin(), s.parts.end(), [&](const SingularPart& p) {
+    return p.axis == a && p.anchor != PartAnchor::centre && p.last > p.first;
+  });
+  return split ? part_slabs(s, a) : -1;
+}
+
+/// Whether two structures have the same parts along lattice axis a: as many, in order, each with the same
+/// anchor.
+template <class = void>
+bool same_parts(const CellStructure& s, const CellStructure& t, int a) {
+  std::vector<PartAnchor> x, y;
+  for (const SingularPart& p : s.parts)
+    if (p.axis == a) x.push_back(p.anchor);
+  for (const SingularPart& p : t.parts)
+    if (p.axis == a) y.push_back(p.anchor);
+  return x == y;
+}
+
 /// Why the structure along lattice axis a cannot be read on its grid phase (docs/method.md 1.7, Phase by
 /// structure): `undecided_axis` where no two slabs tell what occurs once, `nothing_repeats` where the axis
 /// has three cells or more and no slab repeats at all (a plane through a part that occurs once, a pin-1
@@ -1036,13 +1067,19 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
                           std::array<int, 3>& unread) {
   if (options.max_phases_by_structure <= 0 || a.dense.size() == 0) return {};
   for (int k = 0; k < a.axes.real_count; ++k) {
-    if (a.lattice.cells[k] < 3 || unread[std::size_t(k)] == 0) continue;  // fewer cells are read as they are
+    if (a.lattice.cells[k] < 3) continue;  // fewer cells are read as they are
     if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
-    const Unread why = unread[std::size_t(k)] >= 0
-                           ? Unread(unread[std::size_t(k)])
-                           : structure_unread(cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k), k);
+    std::optional<CellStructure> now;  // the structure on the chosen phase, as the retargeter reads it
+    const auto read_now = [&]() -> const CellStructure& {
+      return now ? *now : now.emplace(cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k));
+    };
+    const Unread why =
+        unread[std::size_t(k)] >= 0 ? Unread(unread[std::size_t(k)]) : structure_unread(read_now(), k);
     unread[std::size_t(k)] = int(why);
-    if (why == Unread::read) continue;
+    // Read: searched only where a part kept at an end takes more than one slab (a plane through a pin-1
+    // marker puts its tail in the next pin's cell), for the same parts in fewer slabs.
+    const int split = why == Unread::read ? split_part_slabs(read_now(), k) : -1;
+    if (why == Unread::read && split < 0) continue;
     LatticeFit from;  // the lattice as fitted, and the cost of each phase along k
     from.lattice = a.lattice, from.A_normalized = a.A_normalized, from.origin_normalized = a.origin_normalized;
     from.phase = a.phase;
@@ -1083,6 +1120,12 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
             // the cheapest phase cut has one whole cell, the second pin's, and its third pin in the end cell).
             const bool whole_ends = why == Unread::undecided_axis || why == Unread::gap_run;
             const CellStructure st = cell_structure(mesh, a, fits[t]->lattice, 0, surface.get(), !whole_ends, k);
+            if (split >= 0) {  // the same reading, its parts cut by fewer planes
+              good[t] = fits[t]->lattice.cells[k] == a.lattice.cells[k] && structure_unread(st, k) == Unread::read &&
+                        repeated_length(st, fits[t]->lattice, k) > 0 && !repeated_inner_part(st, k) &&
+                        same_parts(*now, st, k) && part_slabs(st, k) < split;
+              return;
+            }
             const bool kept_inside = inner_parts(st, k) > 0 || st.plain_middle[std::size_t(k)];
             good[t] = structure_unread(st, k) == Unread::read && (kept_inside || !whole_ends) &&
                       repeated_length(st, fits[t]->lattice, k) > 0 && !repeated_inner_part(st, k);
