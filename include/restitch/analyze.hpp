@@ -716,6 +716,19 @@ Unread structure_unread(const CellStructure& s, int a) {
   return s.gap_run[std::size_t(a)] ? Unread::gap_run : Unread::read;
 }
 
+/// What the analysis knows of each axis's structure on the lattice as it is (docs/method.md 1.7, 1.12): the
+/// Unread found (as an int; -1 where not known) and, where read, split_part_slabs (-2 where not known).
+struct AxisReadings {
+  std::array<int, 3> unread{{-1, -1, -1}};
+  std::array<int, 3> split{{-2, -2, -2}};
+  /// Records the structure `s` read along axis k as the retargeter reads it (end slabs over their periodic
+  /// parts): its Unread and split_part_slabs.
+  void read(const CellStructure& s, int k) {
+    unread[std::size_t(k)] = int(structure_unread(s, k));
+    split[std::size_t(k)] = split_part_slabs(s, k);
+  }
+};
+
 /// The lattice of `a`'s principal offsets with axis k's period replaced by `period` (written to `axes`, the
 /// dummy directions completed).
 template <class D, class M, class Det>
@@ -766,13 +779,13 @@ void take_period(Analysis& a, const PrincipalOffsets& axes, int k, const Eigen::
 template <class D, class M, class Det>
 Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
                       const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices, ShapingVertices& shaping,
-                      std::unique_ptr<TriangleSurface>& surface, Analysis& a, std::array<int, 3>& unread) {
+                      std::unique_ptr<TriangleSurface>& surface, Analysis& a, AxisReadings& known) {
   if (!options.verify_periods || !vertices || a.axes.real_count == 0 || a.dense.size() == 0) return {};
   bool changed = false;
   for (int k = 0; k < a.axes.real_count; ++k) {
     if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
     const CellStructure st = cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k);
-    unread[std::size_t(k)] = int(structure_unread(st, k));  // unless a period below replaces t
+    known.read(st, k);  // unless a period below replaces t
     const double have = repeated_length(st, a.lattice, k);
     const Eigen::Vector3d t = a.axes.axes[std::size_t(k)];
     const double extent = a.lattice.cells[k] * t.norm();  // the model's length along t, about
@@ -903,8 +916,9 @@ Status verify_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& option
       if (f == 0 && g.from >= 0) axes.source[std::size_t(k)] = g.from;  // else t's dominant now reads s
       take_period(a, axes, k, snapped.offset, *fit, f, {});
       // The refit moves every axis's planes (A changed): the axes before are not known any more.
-      for (int i = 0; i < k; ++i) unread[std::size_t(i)] = -1;
-      unread[std::size_t(k)] = int(structure_unread(there, k));
+      for (int i = 0; i < k; ++i) known.unread[std::size_t(i)] = -1, known.split[std::size_t(i)] = -2;
+      known.unread[std::size_t(k)] = int(structure_unread(there, k));
+      known.split[std::size_t(k)] = f == 0 ? split_part_slabs(there, k) : -2;  // f != 0: its end slabs whole
       changed = true;
       break;
     }
@@ -1059,13 +1073,13 @@ Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& o
 /// what the phase is chosen by where the structure says nothing; where the cheapest phase cuts the content
 /// that occurs once into the cells of what repeats (a notch edge in a plain column's cell) the structure
 /// cannot be read there, and the seams on exact copies are exact at any phase (the stitcher clips,
-/// docs/method.md 3). `unread`: per axis the Unread the caller found on the lattice as it is (as an int), -1
-/// where not known; updated with what is found here (read, 0, where another phase is taken).
+/// docs/method.md 3). `known`: what the caller found on the lattice as it is; updated with what is found here
+/// (read, where another phase is taken).
 template <class D, class M, class Det>
 Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
-                          std::unique_ptr<TriangleSurface>& surface, Analysis& a,
-                          std::array<int, 3>& unread) {
+                          std::unique_ptr<TriangleSurface>& surface, Analysis& a, AxisReadings& known) {
   if (options.max_phases_by_structure <= 0 || a.dense.size() == 0) return {};
+  std::array<int, 3>& unread = known.unread;
   for (int k = 0; k < a.axes.real_count; ++k) {
     if (a.lattice.cells[k] < 3) continue;  // fewer cells are read as they are
     if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
@@ -1078,8 +1092,11 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
     unread[std::size_t(k)] = int(why);
     // Read: searched only where a part kept at an end takes more than one slab (a plane through a pin-1
     // marker puts its tail in the next pin's cell), for the same parts in fewer slabs.
-    const int split = why == Unread::read ? split_part_slabs(read_now(), k) : -1;
+    const int split = why != Unread::read          ? -1
+                      : known.split[std::size_t(k)] != -2 ? known.split[std::size_t(k)]
+                                                           : split_part_slabs(read_now(), k);
     if (why == Unread::read && split < 0) continue;
+    if (split >= 0) read_now();  // its parts, compared below (before the tasks, which only read it)
     LatticeFit from;  // the lattice as fitted, and the cost of each phase along k
     from.lattice = a.lattice, from.A_normalized = a.A_normalized, from.origin_normalized = a.origin_normalized;
     from.phase = a.phase;
@@ -1139,6 +1156,7 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
         a.origin_normalized = fits[t]->origin_normalized;
         a.phase = fits[t]->phase;
         unread[std::size_t(k)] = int(Unread::read);
+        known.split[std::size_t(k)] = -2;
         taken = true;
       }
     }
@@ -1154,18 +1172,18 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
 /// part inside the model (two copies between the ends, nothing else): a
 /// railing of two modules of two alternating balusters between its posts, whose half module the rails and
 /// bars repeat. `vertices`: the unique vertex positions (normalized); nothing is done without them.
-/// `unread`: per axis the Unread found on the lattice as it is (as an int), -1 where not known.
+/// `known`: what was found on the lattice as it is (AxisReadings).
 template <class D, class M, class Det>
 Status two_copy_periods(const Mesh& mesh, const AnalysisOptions<D, M, Det>& options,
                         const Eigen::Matrix<double, Eigen::Dynamic, 3>* vertices,
-                        std::unique_ptr<TriangleSurface>& surface, Analysis& a, const std::array<int, 3>& unread) {
+                        std::unique_ptr<TriangleSurface>& surface, Analysis& a, const AxisReadings& known) {
   if (!options.verify_periods || !options.exact_pairs || !vertices || a.axes.real_count == 0 || a.dense.size() == 0)
     return {};
   std::optional<ExactPairs> pairs;  // the vertices' grid, once a multiple needs it
   bool changed = false;
   for (int k = 0; k < a.axes.real_count; ++k) {
     if (!surface) surface = std::make_unique<TriangleSurface>(mesh);
-    const int why = unread[std::size_t(k)];
+    const int why = known.unread[std::size_t(k)];
     if (why >= 0 ? why != int(Unread::undecided_axis)
                  : !cell_structure(mesh, a, a.lattice, 0, surface.get(), true, k).undecided[std::size_t(k)])
       continue;
@@ -1207,10 +1225,10 @@ Status fit_principal_lattice(const Mesh& mesh, const AnalysisOptions<D, M, Det>&
   ShapingVertices shaping(mesh, a.normalization, options.flat_vertex_features);
   RESTITCH_TRY(select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, shaping, a));
   std::unique_ptr<TriangleSurface> surface;  // the mesh's triangles for the structures, built once needed
-  std::array<int, 3> unread{{-1, -1, -1}};  // per axis, as verify_periods found it (Unread)
-  RESTITCH_TRY(verify_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, shaping, surface, a, unread));
-  RESTITCH_TRY(phase_by_structure(mesh, options, surface, a, unread));
-  RESTITCH_TRY(two_copy_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a, unread));
+  AxisReadings known;  // per axis, as verify_periods found it
+  RESTITCH_TRY(verify_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, shaping, surface, a, known));
+  RESTITCH_TRY(phase_by_structure(mesh, options, surface, a, known));
+  RESTITCH_TRY(two_copy_periods(mesh, options, options.snap_to_vertices ? &P : nullptr, surface, a, known));
   return find_vertex_repeats(mesh, options, options.snap_to_vertices ? &P : nullptr, shaping, surface, a);
 }
 
@@ -1366,8 +1384,8 @@ Status promote_offsets(const Mesh& mesh, const AnalysisOptions<D, M, Det>& optio
     detail::ShapingVertices shaping(mesh, b.normalization, options.flat_vertex_features);
     RESTITCH_TRY(detail::select_and_fit(mesh, options, options.snap_to_vertices ? &P : nullptr, shaping, b));
     std::unique_ptr<detail::TriangleSurface> surface;
-    std::array<int, 3> unread{{-1, -1, -1}};
-    RESTITCH_TRY(detail::phase_by_structure(mesh, options, surface, b, unread));
+    detail::AxisReadings known;
+    RESTITCH_TRY(detail::phase_by_structure(mesh, options, surface, b, known));
     b.timings_ms["promotion"] = detail::elapsed_ms(t0);
     a = std::move(b);
     return {};
