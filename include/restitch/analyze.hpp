@@ -1069,7 +1069,9 @@ Status find_vertex_repeats(const Mesh& mesh, const AnalysisOptions<D, M, Det>& o
 /// the planes can sit in), cheapest first, at most `max_phases_by_structure`; the first on which the axis
 /// is decided, some slabs repeat and no part inside is a copy of another replaces the phase along k (refit
 /// along k alone). For an undecided axis, with its end slabs compared whole and some part inside the model;
-/// where nothing repeated, as the retargeter reads it (end slabs over their periodic parts). The cut cost is
+/// where nothing repeated, as the retargeter reads it (end slabs over their periodic parts). Also along an
+/// axis that is read where a part kept at an end takes two slabs or more (split_part_slabs; An end part cut
+/// by a plane): the first phase that reads the same cells and parts (same_parts) in fewer slabs. The cut cost is
 /// what the phase is chosen by where the structure says nothing; where the cheapest phase cuts the content
 /// that occurs once into the cells of what repeats (a notch edge in a plain column's cell) the structure
 /// cannot be read there, and the seams on exact copies are exact at any phase (the stitcher clips,
