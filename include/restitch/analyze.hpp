@@ -688,6 +688,34 @@ int split_part_slabs(const CellStructure& s, int a) {
   return split ? part_slabs(s, a) : -1;
 }
 
+/// The fewest slabs the parts along lattice axis a of `s` (read on `grid`) can take with the cell planes moved
+/// by `shift` periods, in all, as their own content (SingularPart::content: where each differs from the surface
+/// a period either side) tells: one slab more than the planes strictly inside a part's content (one for a part with no
+/// content). Not the model's end: on another phase an end slab may be read over its
+/// periodic part, as a copy, and the part then holds no end slab. docs/method.md 1.7, An end part cut by a
+/// plane: a phase whose count is no lower than the parts' slabs now cannot hold them in fewer, and is not read.
+template <class = void>
+int part_slabs_moved(const CellStructure& s, const Lattice& grid, int a, double shift) {
+  const Eigen::RowVector3d row = grid.A.inverse().row(a);
+  int n = 0;
+  for (const SingularPart& p : s.parts) {
+    if (p.axis != a) continue;
+    if (p.content.empty()) {  // one slab at least
+      ++n;
+      continue;
+    }
+    double c0 = INFINITY, c1 = -INFINITY;
+    for (const Eigen::Vector3d& x : p.content) {
+      const double t = row.dot(x - grid.origin);
+      c0 = std::min(c0, t), c1 = std::max(c1, t);
+    }
+    // Planes m + shift strictly inside (c0, c1).
+    const double lo = std::floor(c0 - shift) + 1, hi = std::ceil(c1 - shift) - 1;
+    n += 1 + std::max(0, int(hi - lo) + 1);
+  }
+  return n;
+}
+
 /// Whether two structures have the same parts along lattice axis a: as many, in order, each with the same
 /// anchor.
 template <class = void>
@@ -1107,8 +1135,14 @@ Status phase_by_structure(const Mesh& mesh, const AnalysisOptions<D, M, Det>& op
     const int K = options.lattice.phase_candidates;
     const int chosen = int(std::lround(a.phase[k] * K)) % K;
     std::vector<int> phases;  // the phases to try, in order
-    for (const int j : phase_minima(base->phase_cost[std::size_t(k)]))
-      if (j != chosen && int(phases.size()) < options.max_phases_by_structure) phases.push_back(j);
+    int minima = 0;  // of the cheapest max_phases_by_structure minima, those that could qualify
+    for (const int j : phase_minima(base->phase_cost[std::size_t(k)])) {
+      if (j == chosen || minima++ >= options.max_phases_by_structure) continue;
+      // An end part cut by a plane: only a phase whose planes could hold the parts in fewer slabs is read.
+      if (split >= 0 && part_slabs_moved(*now, a.lattice, k, double(((j - chosen) % K + K) % K) / K) >= split)
+        continue;
+      phases.push_back(j);
+    }
     // Tried a batch of `threads` at a time, each independent; the first in order that qualifies is taken, so
     // the lattice is the same whatever the number of threads.
     const std::size_t batch = std::size_t(resolve_threads(options.threads));
