@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <string>
 
 #include "restitch/families/families.hpp"
@@ -562,6 +563,50 @@ TEST_CASE("structure: an end part a plane cuts into two cells is read in one on 
     CHECK(first->last == 0);
     for (const int m : {2, 3, n + 1}) check_resized_to(r, f, "dip", at, n, m, true);
   }
+}
+
+// The count that decides which phases the end-part search reads (docs/method.md 1.7, An end part cut by a plane):
+// the fewest slabs a part's own content can take with the planes moved, against a brute-force oracle (the slabs
+// the content's samples, dense along the axis, fall in at that shift), on a sheared lattice off the origin.
+TEST_CASE("structure: the slabs a part's content takes on another phase, against counting its samples' slabs",
+          "[structure]") {
+  Lattice grid;
+  grid.A << 2.0, 0.3, 0.0, 0.0, 1.5, 0.0, 0.0, 0.2, 1.0;
+  grid.origin = Eigen::Vector3d(0.7, -1.1, 0.4);
+  CellStructure s;
+  s.cells = Eigen::Array3i(8, 1, 1);
+  const auto part = [&](int first, int last, double t0, double t1) {  // content dense from t0 to t1 along axis 0
+    SingularPart p;
+    p.axis = 0, p.first = first, p.last = last;
+    for (int i = 0; i <= 200; ++i)
+      p.content.push_back(grid.to_model(Eigen::Vector3d(t0 + (t1 - t0) * i / 200.0, 0.37 * (i % 3), 0.11 * (i % 5))));
+    return p;
+  };
+  s.parts = {part(0, 1, 0.97, 1.04), part(3, 4, 3.25, 4.9), part(6, 7, 6.2, 7.3)};
+  SingularPart none;  // no content: one slab at least
+  none.axis = 0, none.first = 5, none.last = 5;
+  SingularPart other_axis = part(0, 3, 0.1, 3.9);
+  other_axis.axis = 1;  // another axis's part is not counted
+  s.parts.push_back(none);
+  s.parts.push_back(other_axis);
+  const Eigen::RowVector3d row = grid.A.inverse().row(0);
+  for (int j = 0; j < 64; ++j) {
+    const double shift = j / 64.0;
+    INFO("shift " << shift);
+    int oracle = 1;  // the part with no content
+    for (const SingularPart& p : s.parts) {
+      if (p.axis != 0 || p.content.empty()) continue;
+      std::set<long> slabs;
+      for (const Eigen::Vector3d& x : p.content) slabs.insert(long(std::floor(row.dot(x - grid.origin) - shift)));
+      oracle += int(slabs.size());
+    }
+    CHECK(detail::part_slabs_moved(s, grid, 0, shift) == oracle);
+  }
+  // Known answers: at the cells' own phase 2 + 2 + 2 + 1; planes at 0.5 off split the first part's content in
+  // none, the second's at 3.5 and 4.5 (three slabs) and the third's at 6.5 (two).
+  CHECK(detail::part_slabs_moved(s, grid, 0, 0.0) == 7);
+  CHECK(detail::part_slabs_moved(s, grid, 0, 0.5) == 7);
+  CHECK(detail::part_slabs_moved(s, grid, 0, 0.1) == 1 + 2 + 2 + 1);
 }
 
 // A pin-1 dimple that reaches into pin 2's cell on a 3-pin package, where no phase keeps it whole in an end
