@@ -689,9 +689,9 @@ int split_part_slabs(const CellStructure& s, int a) {
 }
 
 /// The fewest slabs the parts along lattice axis a of `s` (read on `grid`) can take with the cell planes moved
-/// by `shift` periods, in all, as their own content (SingularPart::content: where each differs from the surface
-/// a period either side) tells: one slab more than the planes strictly inside a part's content (one for a part with no
-/// content). Not the model's end: on another phase an end slab may be read over its
+/// by `shift` periods, in all, as their own content (SingularPart::content: where each differs from the
+/// surface a period either side) tells: one slab more than the planes strictly inside a part's content (one
+/// for a part with no content). Not from the model's end: on another phase an end slab may be read over its
 /// periodic part, as a copy, and the part then holds no end slab. docs/method.md 1.7, An end part cut by a
 /// plane: a phase whose count is no lower than the parts' slabs now cannot hold them in fewer, and is not read.
 template <class = void>
