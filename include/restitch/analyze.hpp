@@ -696,7 +696,7 @@ int split_part_slabs(const CellStructure& s, int a) {
 /// plane: a phase whose count is no lower than the parts' slabs now cannot hold them in fewer, and is not read.
 template <class = void>
 int part_slabs_moved(const CellStructure& s, const Lattice& grid, int a, double shift) {
-  const Eigen::RowVector3d row = grid.A.inverse().row(a);
+  const Eigen::RowVector3d row = grid.A_inverse().row(a);
   int n = 0;
   for (const SingularPart& p : s.parts) {
     if (p.axis != a) continue;
