@@ -730,6 +730,29 @@ TEST_CASE("structure: content moved past the model's end is compared the other w
   }
 }
 
+// Two copies side by side between the ends, found as an exact pair (docs/method.md 1.13): what both hold (a
+// 2-pin connector's slot next to each end) may belong to the ends or to every pin, and the model cannot tell.
+// Grown, it is repeated with every pin and warned "two copies" (2.11); from 3 pins, where the middle pin is
+// plain, the slots are parts and nothing is warned.
+TEST_CASE("structure: two copies side by side, each next to an end, are warned", "[structure][samples]") {
+  for (const int n : {2, 3}) {
+    INFO(n << " pins");
+    const Family f = make("connector", {{"pins", n}});
+    REQUIRE(f.axis >= 0);
+    Retargeter<> r(f.sample.mesh, f.analysis);
+    REQUIRE(r.structure());
+    auto out = r.retarget(family_steps(f, 5 - n));
+    REQUIRE(out.ok());
+    CHECK(has_warning(out->report, "two copies") == (n == 2));
+    const Mesh truth = families::generate("connector", {{"pins", 5}})->mesh;
+    const double size = bounding_box(truth).size().norm();
+    if (n == 2)  // a slot in every back wall, where the family has one next to each end only
+      CHECK(test::symmetric_surface_distance(out->mesh, truth, 0.004 * size) > 0.01 * size);
+    else
+      check_in_place(out->mesh, truth, false);
+  }
+}
+
 // A rail as tall as the slat pitch, within the copies' tolerance: its bottom, in the slab below, reads there as
 // a copy of the top rail's bottom one period under the top, so the part is the rest of the rail, and the middle
 // of the part's difference from that slab, at the part's slabs' ends, lay a tenth of a period above the rail's

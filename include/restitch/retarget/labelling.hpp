@@ -77,7 +77,7 @@ Status plan_parts(const CellStructure* structure, const Eigen::Array3i& k, Retar
 /// Checks lattice `steps` (one per axis of `grid`, the label grid of `space`) and fills
 /// rep.grid_steps and rep.cells_out (and the parts, plan_parts; a warning "pair" for a resized axis whose
 /// repeat is a pair candidate promoted on request, unless `structure` finds three slabs or more along it that
-/// are copies): refused when the model has no repeat,
+/// are copies, else "two copies" where it finds exactly two): refused when the model has no repeat,
 /// when an axis would shrink below one cell or to one cell that cannot hold both ends, when the parts
 /// that occur once do not allow it (plan_parts), and when nodes x labels exceed options.max_problem_size
 /// (too_large, naming the option).
@@ -114,16 +114,34 @@ Status plan_request(const LabelSpace& space, const Analysis& analysis, const Lat
   // (a 3-column facade whose ends hold most of it).
   for (int a = 0; a < analysis.axes.real_count; ++a) {
     const int i = analysis.axes.source[std::size_t(a)];
-    if (steps[a] == 0 || i < 0 || i >= int(analysis.dominant.size())) continue;
-    const DominantOffset& d = analysis.dominant[std::size_t(i)];
-    int copies = 0;
-    if (structure)
-      for (const int c : structure->copy_of[std::size_t(a)]) copies += c >= 0;
-    if (d.promoted && !d.significant && d.is_pair() && copies < 3)
+    if (steps[a] == 0) continue;
+    const DominantOffset* d = i >= 0 && i < int(analysis.dominant.size()) ? &analysis.dominant[std::size_t(i)] : nullptr;
+    int copies = 0, first = -1, last = -1;  // the slabs that are copies: how many, the first and the last
+    if (structure) {
+      const std::vector<int>& copy_of = structure->copy_of[std::size_t(a)];
+      for (int c = 0; c < int(copy_of.size()); ++c)
+        if (copy_of[std::size_t(c)] >= 0) ++copies, last = c, first = first < 0 ? c : first;
+    }
+    if (d && d->promoted && !d->significant && d->is_pair() && copies < 3)
       rep.warnings.push_back({"pair", "the repeat along axis " + std::to_string(a + 1) +
                                           " is two copies that make up less than half of the model (a candidate, "
                                           "resized along on request): what each copy holds is repeated with it and "
                                           "the rest kept at the ends; look at the result"});
+    // A repeat found in two exact copies (1.13) whose slabs are the only two copies, side by side, each next
+    // to an end (a 2-pin connector: its two pins' cells between the end walls): content in both (a slot next
+    // to each end) may belong to the ends or to every copy, and nothing in the model tells which. It is
+    // repeated with every copy. From three copies on, or with a slab between a copy and its end that is no
+    // copy (a 4-pin connector's end pins, whose slots make them parts), the model decides.
+    else if (d && d->significant &&
+             std::any_of(d->tests.begin(), d->tests.end(),
+                         [](const OffsetTest& t) { return t.name == "pair_third_copy" && t.passed; }) &&
+             structure &&
+             !structure->undecided[std::size_t(a)] && copies == 2 && last == first + 1 && first <= 1 &&
+             last >= grid.cells[a] - 2)
+      rep.warnings.push_back({"two copies", "the repeat along axis " + std::to_string(a + 1) +
+                                                " has two copies, each next to an end: what both hold may belong "
+                                                "to the ends (a slot next to each end) rather than to every copy, "
+                                                "and was repeated with every copy; look at the result"});
   }
   const double nodes = double(rep.cells_out.prod());
   const double labels = double((k.abs() + 1).prod());

@@ -43,7 +43,7 @@ struct PartReport {
 };
 
 /// Something in a result a modeller would look at: the check that found it and a sentence. Checks:
-/// "undecided axis", "short repeat", "part off centre" and "pair" (known when the request is planned,
+/// "undecided axis", "short repeat", "part off centre", "pair" and "two copies" (known when the request is planned,
 /// restitch/retarget/labelling.hpp), "open seam", "part count", "size", "floating piece" and "side by side" (the result check, restitch/retarget/check.hpp).
 struct ResultWarning {
   std::string check;
@@ -51,7 +51,8 @@ struct ResultWarning {
   /// Known when the request is planned (what whole periods cannot do, or a reading that may be wrong),
   /// rather than found in the result by its check.
   bool planned() const {
-    return check == "undecided axis" || check == "short repeat" || check == "part off centre" || check == "pair";
+    return check == "undecided axis" || check == "short repeat" || check == "part off centre" || check == "pair" ||
+           check == "two copies";
   }
 };
 
