@@ -695,41 +695,6 @@ TEST_CASE("structure: an undecided phase is replaced by one that keeps a slot ne
   }
 }
 
-// Content moved into an end beyond its periodic part is not compared there (the end's own content differs), but
-// moved past the model's end it meets nothing at all: it is then compared moved the other way by as much. A
-// 3-pin package whose body ends 0.34 of a cell into the first cell, on a phase whose end plane lies at 0.42 of it,
-// has its pin-1 dimple (0.04 to 0.35 of the next cell) in pin 2's cell: moved one period down it lies past the
-// body's end, so pin 2's cell read as a copy of pin 1's, every cell repeated and a grow to 5 pins put a dimple
-// over pin 2 and pin 4, without a warning (docs/method.md 2.10, Ends). Lengths drawn by `bench --only parameters`
-// (set 46).
-TEST_CASE("structure: content moved past the model's end is compared the other way", "[structure][samples]") {
-  std::map<std::string, double> at{{"pitch", 2.1712633568901945},     {"wall", 0.99947734272638566},
-                                   {"width", 8.0025851993999293},     {"height", 2.7157694158519128},
-                                   {"row", 3.2345294865010343},       {"marker_x", 0.50908045711299732},
-                                   {"marker_width", 0.67727279152328779}, {"marker_depth", 0.093643730139930742},
-                                   {"pin_size", 0.36501785311238294}, {"pin_below", 2.5130072291053382},
-                                   {"pins", 3}};
-  const Family f = make("dip", at);
-  REQUIRE(f.axis >= 0);
-  Retargeter<> r(f.sample.mesh, f.analysis);
-  REQUIRE(r.structure());
-  const std::vector<int>& copy_of = r.structure()->copy_of[std::size_t(f.axis)];
-  const Eigen::Vector3d dimple(at["marker_x"] + at["marker_width"] / 2, at["height"], 0);
-  const int slab = int(std::floor(f.analysis.lattice.to_canonical(dimple)[f.axis]));
-  REQUIRE(slab >= 0);
-  REQUIRE(slab < int(copy_of.size()));
-  CHECK(copy_of[std::size_t(slab)] < 0);  // the dimple's cell is no copy of any
-  for (int i = 0; i < int(copy_of.size()); ++i)
-    if (i != slab) CHECK(copy_of[std::size_t(i)] >= 0);  // the other pins' cells are
-  // Whatever this phase can do with the dimple, the grow is the package at 5 pins or it is warned.
-  auto out = r.retarget(family_steps(f, 2));
-  REQUIRE(out.ok());
-  if (out->report.warnings.empty()) {
-    at["pins"] = 5;
-    check_in_place(out->mesh, families::generate("dip", at)->mesh);
-  }
-}
-
 // Two copies side by side between the ends, found as an exact pair (docs/method.md 1.13): what both hold (a
 // 2-pin connector's slot next to each end) may belong to the ends or to every pin, and the model cannot tell.
 // Grown, it is repeated with every pin and warned "two copies" (2.11); from 3 pins, where the middle pin is

@@ -295,19 +295,11 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     // Slab i's samples moved by `shift` periods lie on the surface, and not in the model's end (where the
     // other slab is the end, not a copy, and nothing could be compared); past an end slab's periodic part,
     // they are not compared.
-    // A sample moved into an end beyond its periodic part is compared instead moved the other way by as much,
-    // where that lands where compared: what a comparison did not look at must still repeat (a DIP's pin-1
-    // dimple in the cell after the end cell's, moved into the end past the body's end, is no copy of the plain
-    // top a period the other way).
     const auto lands = [&](int i, int shift) {
       for (const std::size_t k : slab[std::size_t(i)]) {
         const double t = canonical[k][a] + shift;
         if (t < lo_cmp || t >= hi_cmp) {
-          if ((t < lo_cmp && low_partial && t >= 0) || (t >= hi_cmp && high_partial && t < double(n))) {
-            const double back = canonical[k][a] - shift;
-            if ((t < m0 || t > m1) && back >= lo_cmp && back < hi_cmp && off_surface(k, double(-shift))) return false;
-            continue;
-          }
+          if ((t < lo_cmp && low_partial && t >= 0) || (t >= hi_cmp && high_partial && t < double(n))) continue;
           return false;
         }
         if (off_surface(k, double(shift))) return false;
