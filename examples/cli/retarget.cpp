@@ -224,8 +224,9 @@ void register_resize(CLI::App& app, int* exit_code) {
                 "where the two copies continue each other)");
   cmd->add_flag("--strict", args->strict,
                 "exit 7 when the result check flags the result: an open seam, a part that occurs once copied a wrong "
-                "number of times, a size not the one asked, a floating piece, copies side by side, or an axis or centred part whole "
-                "periods cannot decide (the output is still written)");
+                "number of times, a size not the one asked, a floating piece, copies side by side, an axis or centred part whole "
+                "periods cannot decide, or two copies that cannot tell their ends' content from their own (the output is "
+                "still written)");
   cmd->add_option("--max-problem", args->max_problem, "refuse requests with more nodes x labels than this")
       ->capture_default_str();
   cmd->add_option("--dump-mrf", args->dump_mrf,
