@@ -115,7 +115,8 @@ Status plan_request(const LabelSpace& space, const Analysis& analysis, const Lat
   for (int a = 0; a < analysis.axes.real_count; ++a) {
     const int i = analysis.axes.source[std::size_t(a)];
     if (steps[a] == 0) continue;
-    const DominantOffset* d = i >= 0 && i < int(analysis.dominant.size()) ? &analysis.dominant[std::size_t(i)] : nullptr;
+    const DominantOffset* d =
+        i >= 0 && i < int(analysis.dominant.size()) ? &analysis.dominant[std::size_t(i)] : nullptr;
     int copies = 0, first = -1, last = -1;  // the slabs that are copies: how many, the first and the last
     if (structure) {
       const std::vector<int>& copy_of = structure->copy_of[std::size_t(a)];
@@ -135,9 +136,8 @@ Status plan_request(const LabelSpace& space, const Analysis& analysis, const Lat
     else if (d && d->significant &&
              std::any_of(d->tests.begin(), d->tests.end(),
                          [](const OffsetTest& t) { return t.name == "pair_third_copy" && t.passed; }) &&
-             structure &&
-             !structure->undecided[std::size_t(a)] && copies == 2 && last == first + 1 && first <= 1 &&
-             last >= grid.cells[a] - 2)
+             structure && !structure->undecided[std::size_t(a)] && copies == 2 && last == first + 1 &&
+             first <= 1 && last >= grid.cells[a] - 2)
       rep.warnings.push_back({"two copies", "the repeat along axis " + std::to_string(a + 1) +
                                                 " has two copies, each next to an end: what both hold may belong "
                                                 "to the ends (a slot next to each end) rather than to every copy, "
