@@ -156,6 +156,11 @@ bool grown_warned(Retargeter<>& r, int a, const std::string& check) {
   return has_warning(out->report, check);
 }
 
+// Whether every warning of report r, if any, is of check `check`.
+bool only_warned(const RetargetReport& r, const std::string& check) {
+  return std::all_of(r.warnings.begin(), r.warnings.end(), [&](const ResultWarning& w) { return w.check == check; });
+}
+
 bool centred_part_warned(const RetargetReport& r) { return has_warning(r, "part off centre"); }
 
 }  // namespace
@@ -1189,8 +1194,7 @@ TEST_CASE("analysis: a module of two alternating parts is found as the pair, not
       auto out = r.retarget(steps);
       REQUIRE(out.ok());
       CHECK(has_warning(out->report, "two copies") == (modules == 2));
-      CHECK(std::all_of(out->report.warnings.begin(), out->report.warnings.end(),
-                        [](const ResultWarning& w) { return w.check == "two copies"; }));
+      CHECK(only_warned(out->report, "two copies"));
       check_in_place(out->mesh, families::generate("railing", {{"modules", modules + k}})->mesh);
     }
   }
@@ -1440,8 +1444,7 @@ TEST_CASE("structure: a run of columns inside a key notch is no repeat where col
     CHECK_FALSE(r.structure()->gap_run[std::size_t(f.axis)]);
     auto grown = r.retarget(family_steps(f, 2));
     REQUIRE(grown.ok());
-    CHECK(std::all_of(grown->report.warnings.begin(), grown->report.warnings.end(),
-                      [](const ResultWarning& w) { return w.check == "two copies"; }));
+    CHECK(only_warned(grown->report, "two copies"));
   }
   // A sheared facade's stepped ends have a floor's top at one end where the other has the underside of a floor
   // overhanging: faces turned opposite ways, no wall the bays interrupt. Not a gap, not warned.

@@ -173,6 +173,11 @@ struct DominantOffset {
     return !tests.empty() && tests.front().name == "vertex_lag" &&
            std::any_of(tests.begin(), tests.end(), [](const OffsetTest& t) { return t.name == "vertex_structure" && t.passed; });
   }
+  /// Significant as two exact copies (docs/method.md 1.13): its last pair test, "pair_third_copy", passed.
+  bool exact_pair() const {
+    return significant &&
+           std::any_of(tests.begin(), tests.end(), [](const OffsetTest& t) { return t.name == "pair_third_copy" && t.passed; });
+  }
   /// Not significant, and on the whole surface it passed votes, overlap and contrast and failed a
   /// pattern test: two copies, not a pattern.
   template <class = void>

@@ -133,11 +133,8 @@ Status plan_request(const LabelSpace& space, const Analysis& analysis, const Lat
     // to each end) may belong to the ends or to every copy, and nothing in the model tells which. It is
     // repeated with every copy. From three copies on, or with a slab between a copy and its end that is no
     // copy (a 4-pin connector's end pins, whose slots make them parts), the model decides.
-    else if (d && d->significant &&
-             std::any_of(d->tests.begin(), d->tests.end(),
-                         [](const OffsetTest& t) { return t.name == "pair_third_copy" && t.passed; }) &&
-             structure && !structure->undecided[std::size_t(a)] && copies == 2 && last == first + 1 &&
-             first <= 1 && last >= grid.cells[a] - 2)
+    else if (d && d->exact_pair() && structure && !structure->undecided[std::size_t(a)] && copies == 2 &&
+             last == first + 1 && first <= 1 && last >= grid.cells[a] - 2)
       rep.warnings.push_back({"two copies", "the repeat along axis " + std::to_string(a + 1) +
                                                 " has two copies, each next to an end: what both hold may belong "
                                                 "to the ends (a slot next to each end) rather than to every copy, "
