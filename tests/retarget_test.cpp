@@ -834,9 +834,11 @@ TEST_CASE("retarget: a seam plane where the copies differ by more than the stitc
     CHECK(x->report.seams_moved > 0);
     CHECK(x->report.boundary_edges_new() == 0);
     CHECK(x->report.boundary_edges_out == 0);
-    for (const ResultWarning& w : x->report.warnings) {  // no plaque repeats: said before the resize, and only that
+    // No plaque repeats: said before the resize; and the plaque of the cell the resize copies, each one of a
+    // kind, is then in the output twice, which the count of what occurs once says (method.md 2.11).
+    for (const ResultWarning& w : x->report.warnings) {
       INFO(w.check << ": " << w.message);
-      CHECK(w.check == "undecided axis");
+      CHECK((w.check == "undecided axis" || w.check == "part count"));
     }
   }
 }

@@ -655,6 +655,63 @@ TEST_CASE("structure: what the one cell copied holds that continues to neither s
   for (const int m : {2, 4, 5}) check_resized_to(r, plain, "dip", {{"pins", 3}}, 3, m);
 }
 
+// What occurs once, found from the surface alone (CellStructure::once, docs/method.md 2.11): on a 3-pin package
+// the groups lie at the pin-1 dimple and at the body's two end faces, nowhere else (not on the top face past
+// pin 3, whose copy a period back is the dimple's floor and a period on nothing: it runs along the row). At
+// the lengths of bench set 46 the slabs read the dimple's cell as a copy of pin 2's (through the empty space
+// past the body's end), so no part holds it, and the grow to 5 pins put a dimple over pin 2 as well, without
+// a warning: the count of what occurs once now says so.
+TEST_CASE("structure: what occurs once is found from the surface and counted in the result, whatever the slabs read",
+          "[structure][samples]") {
+  const std::map<std::string, double> set46{
+      {"pitch", 2.17126}, {"wall", 0.999477}, {"width", 8.00259}, {"height", 2.71577}, {"row", 3.23453},
+      {"marker_x", 0.50908}, {"marker_width", 0.677273}, {"marker_depth", 0.0936437}, {"pin_size", 0.365018},
+      {"pin_below", 2.51301}};
+  for (const auto& lengths : {std::map<std::string, double>{}, set46}) {
+    std::map<std::string, double> at = lengths;
+    at["pins"] = 3;
+    const Family f = make("dip", at);
+    REQUIRE(f.axis >= 0);
+    Retargeter<> r(f.sample.mesh, f.analysis);
+    REQUIRE(r.structure());
+    const auto length = [&](const std::string& name) {
+      if (at.count(name)) return at.at(name);
+      for (const families::SampleInfo& info : families::catalog())
+        for (const families::Parameter& q : info.parameters)
+          if (info.name == "dip" && q.name == name) return q.value;
+      FAIL("no dip parameter " << name);
+      return 0.0;
+    };
+    const double p = length("pitch"), wall = length("wall"), mx = length("marker_x"), mw = length("marker_width"),
+                 W = length("width");
+    const double near = 0.2 * p;  // a fifth of a pitch: well inside the body's ends and the dimple's surroundings
+    const std::vector<std::vector<Eigen::Vector3d>>& once = r.structure()->once[std::size_t(f.axis)];
+    bool dimple = false;
+    for (const std::vector<Eigen::Vector3d>& g : once) {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (const Eigen::Vector3d& q : g) c += q / double(g.size());
+      INFO("a group at " << c.transpose());
+      const bool at_dimple = c.x() > mx - near && c.x() < mx + mw + near && std::abs(c.z() - W / 4) < mw / 2 + near;
+      const bool at_end = std::abs(c.x() + wall) < near || std::abs(c.x() - (2 * p + wall)) < near;
+      CHECK((at_dimple || at_end));
+      dimple = dimple || at_dimple;
+    }
+    CHECK(dimple);
+    // Grown to 5 pins as `bench` asks (by size): the family at 5 in place, or warned `part count`.
+    at["pins"] = 5;
+    const Mesh truth = families::generate("dip", at)->mesh;
+    Eigen::Vector3d size = Eigen::Vector3d::Zero();
+    size[world_axis_of(f.sample.generators[0])] = bounding_box(truth).size()[world_axis_of(f.sample.generators[0])];
+    auto out = r.retarget_to_size(size, false);
+    REQUIRE(out.ok());
+    const double diagonal = bounding_box(truth).size().norm();
+    const bool exact = test::symmetric_surface_distance(out->mesh, truth, 0.004 * diagonal) < 1e-4 * diagonal;
+    INFO((lengths.empty() ? "default lengths" : "set 46") << ", exact " << exact);
+    CHECK((exact || has_warning(out->report, "part count")));
+    if (exact) CHECK(out->report.warnings.empty());
+  }
+}
+
 // A 3-pin connector whose housing reaches past pin 1 by more than a pitch (wall 2.82 at a 1.93 pitch): the
 // cheapest phase cuts each end cap inside a module's cell, so its three whole cells all differ and the axis is
 // undecided; twice the pitch, slot module to slot module, was then taken as the period, and the grow to 5

@@ -50,7 +50,9 @@
 // the repeat out of phase inside it, whose middle slab then repeats: the part is split around it), and,
 // per part, up to three per sample of its slabs and their two neighbours (its centre); along an axis read
 // through an end only, per sample beside the run on a surface along it, one per spacing until one lands on
-// the surface (most stop at the first). Once per Retargeter.
+// the surface (most stop at the first); for what occurs once from the surface alone (CellStructure::once), two
+// per dense sample and axis, a hashed grid over those that occur once, and per group up to 2 n + 2 tests of
+// its (at most once_samples) samples moved, one query each (most stop within half of them). Once per Retargeter.
 #pragma once
 
 #include <Eigen/Core>
@@ -62,12 +64,61 @@
 #include <vector>
 
 #include "restitch/analysis.hpp"
+#include "restitch/detail/cell_hash.hpp"
+#include "restitch/detail/disjoint_sets.hpp"
 #include "restitch/detail/triangle_surface.hpp"
 #include "restitch/energy/seam_geometry.hpp"
 #include "restitch/lattice/lattice.hpp"
 #include "restitch/mesh.hpp"
 
 namespace restitch {
+
+namespace detail {
+
+/// Whether more than half of `samples`, moved by `move`, lie within `tolerance` of `surface`: the content
+/// they sample is there (a majority, so that no two disjoint places both hold most of it).
+template <class = void>
+bool held_at(const TriangleSurface& surface, const std::vector<Eigen::Vector3d>& samples, const Eigen::Vector3d& move,
+             double tolerance) {
+  const std::size_t need = samples.size() / 2 + 1;
+  std::size_t on = 0, off = 0;
+  for (const Eigen::Vector3d& q : samples) {
+    ++(surface.distance_within(q + move, 2 * tolerance) <= tolerance ? on : off);
+    if (on >= need) return true;
+    if (off + need > samples.size()) return false;
+  }
+  return false;
+}
+
+/// The groups of `points` linked by steps of at most `link` (single linkage), largest first (a tie: the one
+/// with the lowest first point first), each in the points' order.
+template <class = void>
+std::vector<std::vector<Eigen::Vector3d>> linked_groups(const std::vector<Eigen::Vector3d>& points, double link) {
+  std::vector<std::vector<Eigen::Vector3d>> groups;
+  if (points.empty() || !(link > 0)) return groups;
+  const auto cell_of = [link](const Eigen::Vector3d& p) {
+    return Cell{cell_index(p.x(), link), cell_index(p.y(), link), cell_index(p.z(), link)};
+  };
+  CellChains chains(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) chains.insert(cell_of(points[i]), std::int32_t(i));
+  DisjointSets sets(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Cell c = cell_of(points[i]);
+    chains.for_each_in(Cell{c[0] - 1, c[1] - 1, c[2] - 1}, Cell{c[0] + 1, c[1] + 1, c[2] + 1}, [&](std::int32_t j) {
+      if (std::size_t(j) < i && (points[std::size_t(j)] - points[i]).norm() <= link) sets.join(std::uint32_t(i), std::uint32_t(j));
+    });
+  }
+  std::vector<int> group_of(points.size(), -1);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    int& g = group_of[sets.find(std::uint32_t(i))];
+    if (g < 0) g = int(groups.size()), groups.emplace_back();
+    groups[std::size_t(g)].push_back(points[i]);
+  }
+  std::stable_sort(groups.begin(), groups.end(), [](const auto& x, const auto& y) { return x.size() > y.size(); });
+  return groups;
+}
+
+}  // namespace detail
 
 /// Where a part that occurs once is kept when the model is resized along its axis.
 enum class PartAnchor { low, high, centre };
@@ -128,6 +179,13 @@ struct CellStructure {
   /// land off the surface moved one period either way, both moves inside the model; empty elsewhere. The
   /// result check (restitch/retarget/check.hpp, "part count") counts how many times the output holds each.
   std::array<std::vector<Eigen::Vector3d>, 3> lone_content;
+  /// Per axis: what occurs once along it, found from the surface alone, whatever the slabs were read as
+  /// (docs/method.md 2.11, Content once): groups of dense samples (model units) whose surface, moved one period
+  /// either way, is not the model's (at most once_groups of the largest, of once_samples samples each), that
+  /// the model holds at no other whole number of periods either. The result check ("part count") counts how
+  /// many times the output holds each. Empty along an axis of one cell, and for a structure of one axis.
+  std::array<std::vector<std::vector<Eigen::Vector3d>>, 3> once;
+  static constexpr std::size_t once_groups = 32, once_samples = 64;
   std::vector<SingularPart> parts;  ///< by axis, then index
   Eigen::Array3i cells = Eigen::Array3i::Ones();
   /// Per axis: the model's extent in canonical coordinates (its samples' lowest and highest).
@@ -253,6 +311,46 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
     const auto off_surface = [&](std::size_t k, double shift) {
       return surface->distance_within(points[k] + shift * v, 2 * s.tolerance) > s.tolerance;
     };
+    // What occurs once along a, from the surface alone (docs/method.md 2.11, Content once): the samples whose
+    // surface, moved one period either way, is not the model's (past the model's end there is none; a sample
+    // both of whose moves leave the model tells nothing), linked at two sample spacings (the samples of one
+    // surface lie about one apart). A group of fewer than four is within a spacing or two: no content a
+    // modeller would count. The largest once_groups, once_samples of each (evenly), bound the result check's
+    // cost; a group the model holds at another whole number of periods too (two slots, one next to each end)
+    // does not occur once.
+    if (only_axis < 0) {
+      std::vector<Eigen::Vector3d> lone;
+      for (std::size_t k = 0; k < points.size(); ++k) {
+        const double t = canonical[k][a];
+        if (t + 1 > m1 && t - 1 < m0) continue;
+        if (off_surface(k, 1) && off_surface(k, -1)) lone.push_back(points[k]);
+      }
+      for (std::vector<Eigen::Vector3d>& g : detail::linked_groups(lone, 2 * spacing)) {
+        if (g.size() < 4 || s.once[std::size_t(a)].size() >= CellStructure::once_groups) break;
+        if (g.size() > CellStructure::once_samples) {
+          std::vector<Eigen::Vector3d> kept;
+          for (std::size_t i = 0; i < CellStructure::once_samples; ++i)
+            kept.push_back(g[i * g.size() / CellStructure::once_samples]);
+          g.swap(kept);
+        }
+        // A group whose surface runs along a (moved its own length along a either way, at least two spacings,
+        // most of it lands on the surface: a stretch of top face whose copy a period away is a dimple's floor
+        // on one side and nothing on the other) has nothing of its own: its neighbours' content differs.
+        double g0 = INFINITY, g1 = -INFINITY;
+        for (const Eigen::Vector3d& q : g) {
+          const double t = Ainv.row(a).dot(q - grid.origin);
+          g0 = std::min(g0, t), g1 = std::max(g1, t);
+        }
+        const double length = std::max(g1 - g0, 2 * s.spacing[a]);
+        if (detail::held_at(*surface, g, length * v, s.tolerance) && detail::held_at(*surface, g, -length * v, s.tolerance))
+          continue;
+        bool recurs = false;
+        for (int j = 2; j <= n + 1 && !recurs; ++j)
+          recurs = detail::held_at(*surface, g, double(j) * v, s.tolerance) ||
+                   detail::held_at(*surface, g, -double(j) * v, s.tolerance);
+        if (!recurs) s.once[std::size_t(a)].push_back(std::move(g));
+      }
+    }
     // Where an end plane lies inside its end cell, the cell's periodic part (docs/method.md 1.7: its samples
     // moved one period inward, and its neighbour's moved outward up to the model's end, lie on the surface)
     // may reach past it: the end plane is where the end cap is cut most cheaply, not where the end's content

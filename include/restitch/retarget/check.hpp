@@ -16,7 +16,9 @@
 //   * "part count": a part that occurs once (restitch/lattice/structure.hpp) copied more than once,
 //     not at all, or only in part, read from the labels: the shifts of the output cells whose source
 //     lies in the part's slabs; and the content of the one cell copied that continues to neither side
-//     (CellStructure::lone_content) held more than once or not at all, with the planes as they lie.
+//     (CellStructure::lone_content) held more than once or not at all, with the planes as they lie; and,
+//     whatever the slabs were read as, what the input's surface holds once along a resized axis
+//     (CellStructure::once) held by the output at more than one place along it, or whole at none.
 //   * "size": an output box that is not the input's grown by the whole periods asked for; and, for a
 //     request by size without the exact scale (check_size_asked), one that is not the size asked.
 //   * "floating piece": a group of touching pieces of the output whose box is no input group's box
@@ -31,19 +33,23 @@
 //
 // Cost: the output's boundary edges (O(#V + #F), restitch/mesh_boundary.hpp), a hash-grid look-up per
 // output boundary edge and candidate shift, a union-find over the faces and a sweep over the pieces'
-// boxes. What depends on the input alone (`InputShape`) is built once per Retargeter.
+// boxes; where something occurs once along a resized axis, a tree over the output's triangles
+// (O(#F log #F)) and up to CellStructure::once_samples bounded point-to-surface queries per group and
+// candidate shift. What depends on the input alone (`InputShape`) is built once per Retargeter.
 #pragma once
 
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <numeric>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "restitch/detail/cell_hash.hpp"
+#include "restitch/detail/disjoint_sets.hpp"
 #include "restitch/detail/triangle_surface.hpp"
 #include "restitch/lattice/grid.hpp"
 #include "restitch/lattice/lattice.hpp"
@@ -56,20 +62,6 @@
 namespace restitch {
 
 namespace detail {
-
-/// Disjoint sets over 0 .. n-1 (path halving, union by index: the lower root wins, so deterministic).
-struct DisjointSets {
-  std::vector<std::uint32_t> parent;
-  explicit DisjointSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void join(std::uint32_t a, std::uint32_t b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 /// The boxes of the groups of touching pieces of m: pieces are the faces connected through welded corners
 /// (weld tolerance `weld`); two pieces touch when their boxes, grown by `contact`, overlap. Sorted.
@@ -220,10 +212,13 @@ void check_result(const InputShape& input, const Mesh& out, const Lattice& grid,
         for (const double d : whole) s.insert(d + 0.5 * p.half);
     along[std::size_t(a)].assign(s.begin(), s.end());
   }
-  std::vector<Eigen::Vector3d> moves;
+  std::vector<Eigen::Vector3d> moves, move_cells;  // model units; the same in periods, before the placement
   for (const double x : along[0])
     for (const double y : along[1])
-      for (const double z : along[2]) moves.push_back(grid.A * Eigen::Vector3d(x, y, z) + rep.placement.translation);
+      for (const double z : along[2]) {
+        move_cells.emplace_back(x, y, z);
+        moves.push_back(grid.A * move_cells.back() + rep.placement.translation);
+      }
   const std::vector<BoundaryEdge> open = boundary_edges_at(out, weld_tolerance_of(out, 1e-6));
   rep.boundary_edges_out = open.size();
   rep.open_edges.clear();
@@ -318,6 +313,36 @@ void check_result(const InputShape& input, const Mesh& out, const Lattice& grid,
                                                   (most > 1 ? std::to_string(most) + " times in the output"
                                                    : most == 1 ? std::string("only in part in the output")
                                                                : std::string("not in the output"))});
+    }
+  }
+
+  // What occurs once, found from the surface alone (CellStructure::once): each group must be held by the output
+  // at one place along its axis (one of the moves above: a label's shift, an anchored end's, or a centred
+  // part's moved alone), not more, and not nowhere (cut, or lost).
+  if (structure) {
+    std::unique_ptr<detail::TriangleSurface> surface;
+    for (int a = 0; a < 3; ++a) {
+      if (k[a] == 0 || structure->once[std::size_t(a)].empty()) continue;
+      if (!surface) surface = std::make_unique<detail::TriangleSurface>(out);
+      std::size_t wrong = 0, first_count = 0;
+      const std::vector<Eigen::Vector3d>* first = nullptr;
+      for (const std::vector<Eigen::Vector3d>& g : structure->once[std::size_t(a)]) {
+        std::set<double> at;  // the moves along a that hold it
+        for (std::size_t i = 0; i < moves.size(); ++i)
+          if (!at.count(move_cells[i][a]) && detail::held_at(*surface, g, moves[i], structure->tolerance))
+            at.insert(move_cells[i][a]);
+        if (at.size() == 1) continue;
+        if (wrong++ == 0) first = &g, first_count = at.size();
+      }
+      if (!first) continue;
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      for (const Eigen::Vector3d& q : *first) centre += q / double(first->size());
+      rep.warnings.push_back(
+          {"part count", "what the input holds once near " + detail::format_point(centre) + " (along axis " +
+                             std::to_string(a + 1) + ", moved a period either way it is not there) " +
+                             (first_count == 0 ? std::string("is not whole in the output")
+                                               : "occurs " + std::to_string(first_count) + " times in the output") +
+                             (wrong > 1 ? ", and " + std::to_string(wrong - 1) + " more such content is not once" : "")});
     }
   }
 
