@@ -616,13 +616,11 @@ TEST_CASE("structure: the slabs a part's content takes on another phase, against
 
 // A pin-1 dimple that reaches into pin 2's cell on a 3-pin package, where no phase keeps it whole in an end
 // cell, was copied with pin 2's cell, without a warning (`bench --only parameters --family dip --seeds
-// 1..120`, set 8; docs/method.md 2.10, A cell that continues nothing). Nothing repeats, and the one whole
-// cell a resize copies, with most of the dimple, continues to neither side: the result check counts that
-// content in the output, twice, and warns `part count`. Set 31: the same reading, but only a stub of the
-// dimple lies in that cell, and the seam moved off the cell plane (2.9) leaves it out of the copy: exact,
-// and not warned.
-TEST_CASE("structure: what the one cell copied holds that continues to neither side is counted in the result",
-          "[structure][samples]") {
+// 1..120`, set 8). Nothing repeats, and the one whole cell a resize copies holds most of the dimple: what
+// occurs once along the row (docs/method.md 2.11, Content once) holds the dimple, the result check finds it
+// twice in the output and warns `part count`. Set 31: the same reading, but only a stub of the dimple lies in
+// that cell, and the seam moved off the cell plane (2.9) leaves it out of the copy: exact, and not warned.
+TEST_CASE("structure: a dimple reaching into the one cell copied is counted in the result", "[structure][samples]") {
   const std::vector<std::map<std::string, double>> sets{
       {{"pitch", 1.79494}, {"wall", 0.759297}, {"width", 5.92967}, {"height", 3.92659}, {"row", 2.38353},
        {"marker_x", 0.480249}, {"marker_width", 1.04367}, {"marker_depth", 0.0941155}, {"pin_size", 0.611627},
@@ -634,7 +632,14 @@ TEST_CASE("structure: what the one cell copied holds that continues to neither s
                                   const std::vector<int>& copy_of) {
     const CellStructure& st = *r.structure();
     CHECK(std::count(copy_of.begin(), copy_of.end(), -1) == int(copy_of.size()));
-    CHECK_FALSE(st.lone_content[std::size_t(f.axis)].empty());
+    // A group of what occurs once lies over the dimple (its centre within the dimple's span along the row).
+    bool dimple = false;
+    for (const std::vector<Eigen::Vector3d>& g : st.once[std::size_t(f.axis)]) {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (const Eigen::Vector3d& q : g) c += q / double(g.size());
+      dimple = dimple || (c.x() > at.at("marker_x") && c.x() < at.at("marker_x") + at.at("marker_width"));
+    }
+    CHECK(dimple);
     for (const int m : {4, 5}) {
       INFO("to " << m);
       auto out = r.retarget(family_steps(f, m - 3));
@@ -648,11 +653,12 @@ TEST_CASE("structure: what the one cell copied holds that continues to neither s
     }
   });
   // The counter-case: a dimple inside pin 1's cell (the family's lengths); pin 2's cell continues into pin 3's.
+  // The dimple occurs once there too, and is kept once: exact, and not warned.
   const Family plain = make("dip", {{"pins", 3}});
   Retargeter<> r(plain.sample.mesh, plain.analysis);
   REQUIRE(r.structure());
-  CHECK(r.structure()->lone_content[std::size_t(plain.axis)].empty());
-  for (const int m : {2, 4, 5}) check_resized_to(r, plain, "dip", {{"pins", 3}}, 3, m);
+  CHECK_FALSE(r.structure()->once[std::size_t(plain.axis)].empty());
+  for (const int m : {2, 4, 5}) check_resized_to(r, plain, "dip", {{"pins", 3}}, 3, m, true);
 }
 
 // What occurs once, found from the surface alone (CellStructure::once, docs/method.md 2.11): on a 3-pin package

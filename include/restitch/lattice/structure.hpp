@@ -171,14 +171,6 @@ struct CellStructure {
   /// lacks such a wall: what a resize copies may be a gap in one part (a key notch over every pin), not a
   /// repeat (docs/method.md 2.10, A gap is no repeat; warned "short repeat").
   std::array<bool, 3> gap_run{{false, false, false}};
-  /// Per axis where nothing repeats and the whole slab a resize copies continues to neither side (its
-  /// samples, moved one period either way, land off the surface somewhere inside the model) by a difference
-  /// that is not plain: what it holds may occur once (a pin-1 marker reaching into the only whole cell), and a
-  /// resize copies it, unless a seam moved off the cell plane leaves it out (docs/method.md 2.10, A cell that
-  /// continues nothing). That content: the slab's samples (canonical positions on the structure's grid) that
-  /// land off the surface moved one period either way, both moves inside the model; empty elsewhere. The
-  /// result check (restitch/retarget/check.hpp, "part count") counts how many times the output holds each.
-  std::array<std::vector<Eigen::Vector3d>, 3> lone_content;
   /// Per axis: what occurs once along it, found from the surface alone, whatever the slabs were read as
   /// (docs/method.md 2.11, Content once): groups of dense samples (model units) whose surface, moved one period
   /// either way, is not the model's (at most once_groups of the largest, of once_samples samples each), that
@@ -732,29 +724,6 @@ CellStructure cell_structure(const Mesh& mesh, const Analysis& analysis, const L
         // be a gap in one part (docs/method.md 2.10, A gap is no repeat): warned.
         for (int i = 1; i + 1 < n && !s.undecided[std::size_t(a)] && !s.gap_run[std::size_t(a)]; ++i)
           s.gap_run[std::size_t(a)] = whole_slab(i) && lacks_all_along(double(i), double(i + 1), Lack::wall, nullptr);
-        // A whole slab inside the model that a resize copies: where its content, moved one period either way,
-        // leaves the surface inside the model on both sides (what lands past the model's ends, a spacing
-        // short of them, tells nothing), it continues nothing; and where what it has that a neighbour lacks is
-        // not plain (a marker's side crosses the axis; not a stretch of back wall where both neighbours have
-        // a slot, which is what a modeller extends: The plain one repeats), what it holds may occur once.
-        const auto inside = [&](double t) { return t > m0 + s.spacing[a] && t < m1 - s.spacing[a]; };
-        const auto continues = [&](int i, int shift) {
-          for (const std::size_t k : slab[std::size_t(i)])
-            if (inside(canonical[k][a] + shift) && off_surface(k, double(shift))) return false;
-          return true;
-        };
-        // Its samples that land off the surface moved either way, both moves inside the model, are that
-        // content: the result check counts how many times the output holds them, after the seams moved.
-        for (int i = 1; i + 1 < n && !s.undecided[std::size_t(a)] && !s.gap_run[std::size_t(a)]; ++i) {
-          if (!whole_slab(i) || continues(i, -1) || continues(i, 1) ||
-              (difference_plain(i, -1, true) && difference_plain(i, 1, true)))
-            continue;
-          for (const std::size_t k : slab[std::size_t(i)]) {
-            const double t = canonical[k][a];
-            if (inside(t - 1) && inside(t + 1) && off_surface(k, -1) && off_surface(k, 1))
-              s.lone_content[std::size_t(a)].push_back(canonical[k]);
-          }
-        }
         continue;
       }
     }

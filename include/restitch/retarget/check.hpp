@@ -15,10 +15,9 @@
 //     in common glued together, such as two end caps face to face, which close every edge.
 //   * "part count": a part that occurs once (restitch/lattice/structure.hpp) copied more than once,
 //     not at all, or only in part, read from the labels: the shifts of the output cells whose source
-//     lies in the part's slabs; and the content of the one cell copied that continues to neither side
-//     (CellStructure::lone_content) held more than once or not at all, with the planes as they lie; and,
-//     whatever the slabs were read as, what the input's surface holds once along a resized axis
-//     (CellStructure::once) held by the output at more than one place along it, or whole at none.
+//     lies in the part's slabs; and, whatever the slabs were read as, what the input's surface holds once
+//     along a resized axis (CellStructure::once) held by the output at more than one place along it, or
+//     whole at none.
 //   * "size": an output box that is not the input's grown by the whole periods asked for; and, for a
 //     request by size without the exact scale (check_size_asked), one that is not the size asked.
 //   * "floating piece": a group of touching pieces of the output whose box is no input group's box
@@ -286,33 +285,6 @@ void check_result(const InputShape& input, const Mesh& out, const Lattice& grid,
                                                   std::to_string(copies.size()) + " times in the output"});
       else if (!whole || *copies.begin() != p.shift)
         rep.warnings.push_back({"part count", name + " is not copied whole to its place"});
-    }
-    // Content of the one whole slab a resize copies that continues to neither side (CellStructure::lone_content):
-    // each sample, moved by each label's shift, must land in an output cell of that label exactly once, with
-    // the planes as they lie (a seam moved off the cell plane may leave a marker's stub out of the copy).
-    std::set<std::array<int, 3>> labels;
-    const CellGrid cells_out(rep.cells_out);
-    for (int a = 0; a < 3; ++a) {
-      if (k[a] == 0 || structure->lone_content[std::size_t(a)].empty()) continue;
-      if (labels.empty())
-        for (const Eigen::Array3i& d : shift) labels.insert({d[0], d[1], d[2]});
-      std::size_t held_wrong = 0, most = 0;  // samples not held once; the most times one is held
-      for (const Eigen::Vector3d& t : structure->lone_content[std::size_t(a)]) {
-        std::size_t held = 0;
-        for (const std::array<int, 3>& d : labels) {
-          const Eigen::Vector3d at = t + Eigen::Vector3d(d[0], d[1], d[2]);
-          if ((at.array() < 0).any() || (at.array() >= rep.cells_out.cast<double>()).any()) continue;
-          held += (shift[std::size_t(cells_out.index(rep.cell_of(at)))] == Eigen::Array3i(d[0], d[1], d[2])).all();
-        }
-        held_wrong += held != 1, most = std::max(most, held);
-      }
-      if (held_wrong > 0)
-        rep.warnings.push_back({"part count", "what the cell a resize along axis " + std::to_string(a + 1) +
-                                                  " copies holds that continues to neither side (like a marker "
-                                                  "next to an end) occurs once in the input and " +
-                                                  (most > 1 ? std::to_string(most) + " times in the output"
-                                                   : most == 1 ? std::string("only in part in the output")
-                                                               : std::string("not in the output"))});
     }
   }
 
